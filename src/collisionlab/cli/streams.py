@@ -1,0 +1,36 @@
+"""The command line's streams, injectable so that tests drive the CLI without a terminal."""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+from typing import TextIO
+
+__all__ = ["Streams"]
+
+
+@dataclass
+class Streams:
+    """Where the CLI reads answers and writes output and errors.
+
+    ``interactive`` says whether stdin is a terminal a person types into (it decides whether a
+    bare ``collisionlab`` opens the menu and whether progress bars are drawn).
+    """
+
+    stdin: TextIO = field(default_factory=lambda: sys.stdin)
+    stdout: TextIO = field(default_factory=lambda: sys.stdout)
+    stderr: TextIO = field(default_factory=lambda: sys.stderr)
+    interactive: bool | None = None
+
+    def __post_init__(self) -> None:
+        if self.interactive is None:
+            try:
+                self.interactive = self.stdin.isatty()
+            except (AttributeError, ValueError):
+                self.interactive = False
+
+    def out(self, text: str = "") -> None:
+        self.stdout.write(text + "\n")
+
+    def err(self, text: str) -> None:
+        self.stderr.write(text + "\n")

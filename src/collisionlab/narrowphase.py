@@ -1,0 +1,307 @@
+"""Collision queries: one function per shape pair and one dispatch table.
+
+Each pair is written once, as ``separation_<a>_<b>(a, b) -> Separation``; the mirrored order
+``(b, a)`` is derived by :meth:`Separation.flipped`. :func:`contact`, :func:`intersects` and
+:func:`distance` dispatch on the shapes' types, in either order. A pair with no query raises
+:class:`~collisionlab.errors.UnsupportedPairError`; it never returns ``False``.
+
+Touching policy, the same for every pair: shapes whose distance is exactly 0 are in contact
+(depth 0), as in the lab's eqs. 7 and 9 (``<= r``). A line or plane is the whole infinite line
+or plane; its contact normal points to the side the other shape's centre is on.
+
+Degenerate policy: when the features that define the normal coincide (equal centres, a centre
+exactly on the line or plane, a box centre at a box centre) the normal is a fixed axis:
+``FALLBACK_NORMAL`` for two balls or two boxes, the boundary's own normal for a line or plane,
+and the depth is the full depth along it. For that case only, ``contact(b, a)`` is not the
+flip of ``contact(a, b)``: both report the fallback axis.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+from .contact import Contact, Separation
+from .errors import UnsupportedPairError
+from .shapes import AABB, Circle, Line, Plane, Shape, Sphere
+from .tolerances import FALLBACK_NORMAL
+from .vector import Vector3D
+
+__all__ = [
+    "contact",
+    "distance",
+    "intersects",
+    "separation",
+    "separation_aabb_aabb",
+    "separation_circle_aabb",
+    "separation_circle_circle",
+    "separation_line_aabb",
+    "separation_line_circle",
+    "separation_plane_aabb",
+    "separation_plane_sphere",
+    "separation_sphere_aabb",
+    "separation_sphere_sphere",
+    "supported_pairs",
+]
+
+_FALLBACK = Vector3D(*FALLBACK_NORMAL)
+_AXES = (Vector3D(1, 0, 0), Vector3D(0, 1, 0), Vector3D(0, 0, 1))
+
+
+# --- shared kernels -----------------------------------------------------------------------------
+def _balls(ca: Vector3D, ra: float, cb: Vector3D, rb: float) -> Separation:
+    """Two balls: ``d = |p2 - p1| - (r1 + r2)`` (lab eqs. 1-2; Ericson 4.3.1)."""
+    delta = cb - ca
+    length = delta.length()
+    normal = delta / length if length > 0.0 else _FALLBACK
+    # Midpoint of the two surface points, written symmetrically in a and b.
+    point = (ca + cb) * 0.5 + normal * ((ra - rb) * 0.5)
+    return Separation(length - (ra + rb), normal, point)
+
+
+def _boundary_ball(origin: Vector3D, unit_normal: Vector3D, center: Vector3D, radius: float) -> Separation:
+    """A line or plane and a ball: ``s = n.(Q - P)``, ``d = |s| - r`` (lab eqs. 6-9)."""
+    s = unit_normal.dot(center - origin)
+    normal = -unit_normal if s < 0.0 else unit_normal
+    closest_on_boundary = center - unit_normal * s  # lab eq. 8: S = Q - Proj_n(PQ)
+    point = (closest_on_boundary + center - normal * radius) * 0.5
+    return Separation(abs(s) - radius, normal, point)
+
+
+def _boundary_box(origin: Vector3D, unit_normal: Vector3D, box: AABB) -> Separation:
+    """A line or plane and a box (Ericson 5.2.3): the box's projected radius on the normal is
+    ``h = sum_i |n_i| e_i`` (``e`` the half size) and ``d = |n.(c - P)| - h``."""
+    half = box.half_size
+    center = box.center
+    s = unit_normal.dot(center - origin)
+    h = abs(unit_normal.x) * half.x + abs(unit_normal.y) * half.y + abs(unit_normal.z) * half.z
+    normal = -unit_normal if s < 0.0 else unit_normal
+    # The box vertex nearest the boundary: from the centre, against the normal on every axis.
+    vertex = Vector3D(
+        *(c - math.copysign(e, n) if n != 0.0 else c for c, e, n in zip(center, half, normal, strict=True))
+    )
+    gap = abs(s) - h
+    return Separation(gap, normal, vertex - normal * (gap * 0.5))
+
+
+def _ball_box(center: Vector3D, radius: float, box: AABB, dims: int) -> Separation:
+    """A ball and a box (Ericson 5.2.5): clamp the centre to the box to get the closest point
+    ``q``; ``d = |q - c| - r``. A centre inside the box leaves through the nearest face: the
+    normal is minus that face's outward normal and ``d = -(r + distance to the face)``."""
+    low, high = box.min_corner, box.max_corner
+    q = Vector3D(*(min(max(c, lo), hi) for c, lo, hi in zip(center, low, high, strict=True)))
+    delta = q - center
+    length = delta.length()
+    if length > 0.0:
+        normal = delta / length
+        return Separation(length - radius, normal, (center + normal * radius + q) * 0.5)
+    best_axis, best_sign, best_gap = 0, -1.0, math.inf
+    for axis in range(dims):
+        c, lo, hi = center.as_tuple()[axis], low.as_tuple()[axis], high.as_tuple()[axis]
+        for sign, gap in ((-1.0, c - lo), (1.0, hi - c)):
+            if gap < best_gap:
+                best_axis, best_sign, best_gap = axis, sign, gap
+    face_normal = _AXES[best_axis] * best_sign
+    point = center + face_normal * ((best_gap - radius) * 0.5)
+    return Separation(-(radius + best_gap), -face_normal, point)
+
+
+def _require_2d_box(box: AABB, other: str) -> None:
+    if box.dim != 2:
+        raise UnsupportedPairError(f"{other} and a 3D AABB: a {other} lives in the x-y plane; use a 2D AABB")
+
+
+# --- one function per pair ----------------------------------------------------------------------
+def separation_circle_circle(a: Circle, b: Circle) -> Separation:
+    """Circle-circle (lab part II.A, eqs. 1-3).
+
+    >>> separation_circle_circle(Circle((0, 0), 1), Circle((3, 4), 2)).distance  # 5 - (1 + 2)
+    2.0
+    """
+    return _balls(a.center, a.radius, b.center, b.radius)
+
+
+def separation_sphere_sphere(a: Sphere, b: Sphere) -> Separation:
+    """Sphere-sphere (lab part II.B, eqs. 1-3).
+
+    >>> s = separation_sphere_sphere(Sphere((0, 0, 0), 1), Sphere((0, 0, 1.5), 1))
+    >>> s.distance, s.normal, s.point          # 1.5 - 2; midway between z = 1 and z = 0.5
+    (-0.5, Vector3D(x=0.0, y=0.0, z=1.0), Vector3D(x=0.0, y=0.0, z=0.75))
+    >>> separation_sphere_sphere(Sphere((1, 1, 1), 1), Sphere((1, 1, 1), 2)).normal  # coincident
+    Vector3D(x=1.0, y=0.0, z=0.0)
+    """
+    return _balls(a.center, a.radius, b.center, b.radius)
+
+
+def separation_aabb_aabb(a: AABB, b: AABB) -> Separation:
+    """AABB-AABB in 2D or 3D (lab part III, eqs. 4-5; Ericson 4.2.1).
+
+    Per axis the gap is ``max(a.min - b.max, b.min - a.max)``. When every gap is <= 0 the boxes
+    overlap and the contact is along the axis of least overlap (ties: x before y before z), the
+    normal's sign from A's centre to B's (+axis when equal). Otherwise the distance is the length
+    of the vector of positive gaps.
+
+    >>> s = separation_aabb_aabb(AABB((0, 0), (2, 2)), AABB((1.5, 1), (3, 3)))
+    >>> s.distance, s.normal, s.point           # overlaps 0.5 in x, 1 in y
+    (-0.5, Vector3D(x=1.0, y=0.0, z=0.0), Vector3D(x=1.75, y=1.5, z=0.0))
+    >>> separation_aabb_aabb(AABB((0, 0, 0), (1, 1, 1)), AABB((4, 5, 0), (5, 6, 1))).distance  # 3-4-5
+    5.0
+    """
+    if a.dim != b.dim:
+        raise UnsupportedPairError("a 2D AABB and a 3D AABB: both boxes must have the same dimension")
+    dims = a.dim
+    a_lo, a_hi, b_lo, b_hi = (v.as_tuple() for v in (a.min_corner, a.max_corner, b.min_corner, b.max_corner))
+    gaps = [max(a_lo[i] - b_hi[i], b_lo[i] - a_hi[i]) for i in range(dims)]
+    if max(gaps) > 0.0:
+        direction = [0.0, 0.0, 0.0]
+        middle = [0.0, 0.0, 0.0]
+        for i in range(dims):
+            if a_hi[i] < b_lo[i]:
+                direction[i], middle[i] = b_lo[i] - a_hi[i], (a_hi[i] + b_lo[i]) * 0.5
+            elif b_hi[i] < a_lo[i]:
+                direction[i], middle[i] = b_hi[i] - a_lo[i], (b_hi[i] + a_lo[i]) * 0.5
+            else:
+                middle[i] = (max(a_lo[i], b_lo[i]) + min(a_hi[i], b_hi[i])) * 0.5
+        gap_vector = Vector3D(*direction)
+        length = gap_vector.length()
+        return Separation(length, gap_vector / length, Vector3D(*middle))
+    axis = min(range(dims), key=lambda i: -gaps[i])
+    offset = (b.center - a.center).as_tuple()[axis]
+    normal = _AXES[axis] * (-1.0 if offset < 0.0 else 1.0)
+    middle = [(max(a_lo[i], b_lo[i]) + min(a_hi[i], b_hi[i])) * 0.5 for i in range(3)]
+    return Separation(gaps[axis], normal, Vector3D(*middle))
+
+
+def separation_line_circle(a: Line, b: Circle) -> Separation:
+    """Line-circle (lab part IV.A, eqs. 6-7): collision when ``|QS| <= r``.
+
+    >>> s = separation_line_circle(Line((0, 0), (1, 1)), Circle((0, 2), 1))
+    >>> round(s.distance, 12), s.normal   # |QS| = sqrt(2); normal (-1, 1)/sqrt(2)
+    (0.414213562373, Vector3D(x=-0.7071067811865475, y=0.7071067811865475, z=0.0))
+    """
+    return _boundary_ball(a.point, a.unit_normal, b.center, b.radius)
+
+
+def separation_plane_sphere(a: Plane, b: Sphere) -> Separation:
+    """Plane-sphere (lab part IV.B, eqs. 8-9): collision when ``|Proj_n PQ| <= r``.
+
+    >>> s = separation_plane_sphere(Plane((0, 0, 0), (0, 1, 0)), Sphere((1, -0.5, 2), 1))
+    >>> s.distance, s.normal, s.point   # centre 0.5 below the plane: overlap 0.5, pushed down
+    (-0.5, Vector3D(x=-0.0, y=-1.0, z=-0.0), Vector3D(x=1.0, y=0.25, z=2.0))
+    """
+    return _boundary_ball(a.point, a.unit_normal, b.center, b.radius)
+
+
+def separation_circle_aabb(a: Circle, b: AABB) -> Separation:
+    """Circle-AABB in 2D (the lab's postlab question 2; Ericson 5.2.5).
+
+    >>> separation_circle_aabb(Circle((0, 0), 1), AABB((2, -1), (4, 1))).distance  # clamp to (2, 0)
+    1.0
+    >>> s = separation_circle_aabb(Circle((1, 0.5), 1), AABB((0, 0), (4, 4)))  # centre inside
+    >>> s.distance, s.normal   # nearest face y = 0 at 0.5: depth 1 + 0.5; box moves +y
+    (-1.5, Vector3D(x=0.0, y=1.0, z=0.0))
+    """
+    _require_2d_box(b, "circle")
+    return _ball_box(a.center, a.radius, b, 2)
+
+
+def separation_sphere_aabb(a: Sphere, b: AABB) -> Separation:
+    """Sphere-AABB (Ericson 5.2.5); a 2D box is the flat box at z = 0.
+
+    >>> separation_sphere_aabb(Sphere((0, 0, 3), 1), AABB((-1, -1, -1), (1, 1, 1))).normal
+    Vector3D(x=0.0, y=0.0, z=-1.0)
+    """
+    return _ball_box(a.center, a.radius, b, 3)
+
+
+def separation_line_aabb(a: Line, b: AABB) -> Separation:
+    """Line-AABB in 2D (Ericson 5.2.3).
+
+    >>> separation_line_aabb(Line((0, 0), (1, 0)), AABB((0, 1), (2, 3))).distance  # box 1 above
+    1.0
+    """
+    _require_2d_box(b, "line")
+    return _boundary_box(a.point, a.unit_normal, b)
+
+
+def separation_plane_aabb(a: Plane, b: AABB) -> Separation:
+    """Plane-AABB (Ericson 5.2.3).
+
+    >>> s = separation_plane_aabb(Plane((0, 0, 0), (0, 0, 1)), AABB((0, 0, -0.25), (1, 1, 1)))
+    >>> s.distance   # centre z = 0.375, projected radius 0.625
+    -0.25
+    """
+    return _boundary_box(a.point, a.unit_normal, b)
+
+
+# --- dispatch -----------------------------------------------------------------------------------
+_TABLE: dict[tuple[type, type], Callable[[Any, Any], Separation]] = {
+    (Circle, Circle): separation_circle_circle,
+    (Sphere, Sphere): separation_sphere_sphere,
+    (AABB, AABB): separation_aabb_aabb,
+    (Line, Circle): separation_line_circle,
+    (Plane, Sphere): separation_plane_sphere,
+    (Circle, AABB): separation_circle_aabb,
+    (Sphere, AABB): separation_sphere_aabb,
+    (Line, AABB): separation_line_aabb,
+    (Plane, AABB): separation_plane_aabb,
+}
+
+
+def supported_pairs() -> list[tuple[str, str]]:
+    """The shape pairs that have a query (each also works in the mirrored order)."""
+    return [(a.__name__, b.__name__) for a, b in _TABLE]
+
+
+def separation(a: Shape, b: Shape) -> Separation:
+    """The :class:`Separation` of any supported pair, in either order.
+
+    >>> separation(Sphere((0, 0, 3), 1), Plane((0, 0, 0), (0, 0, 1))).normal  # from sphere to plane
+    Vector3D(x=-0.0, y=-0.0, z=-1.0)
+    >>> separation(Circle((0, 0), 1), Sphere((0, 0, 0), 1))
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.UnsupportedPairError: no collision query for Circle and Sphere; supported pairs: \
+Circle-Circle, Sphere-Sphere, AABB-AABB, Line-Circle, Plane-Sphere, Circle-AABB, Sphere-AABB, \
+Line-AABB, Plane-AABB (either order)
+    """
+    query = _TABLE.get((type(a), type(b)))
+    if query is not None:
+        return query(a, b)
+    mirrored = _TABLE.get((type(b), type(a)))
+    if mirrored is not None:
+        return mirrored(b, a).flipped()
+    names = ", ".join(f"{x}-{y}" for x, y in supported_pairs())
+    raise UnsupportedPairError(
+        f"no collision query for {type(a).__name__} and {type(b).__name__}; supported pairs: {names} (either order)"
+    )
+
+
+def contact(a: Shape, b: Shape) -> Contact | None:
+    """The :class:`Contact` of ``a`` and ``b`` (normal from ``a`` to ``b``), or ``None``.
+
+    >>> contact(Circle((0, 0), 1), Circle((2, 0), 1))      # exactly touching: a contact, depth 0
+    Contact(normal=Vector3D(x=1.0, y=0.0, z=0.0), depth=0.0, point=Vector3D(x=1.0, y=0.0, z=0.0))
+    >>> contact(Circle((0, 0), 1), Circle((2.5, 0), 1)) is None
+    True
+    """
+    return separation(a, b).contact()
+
+
+def intersects(a: Shape, b: Shape) -> bool:
+    """Whether ``a`` and ``b`` touch or overlap.
+
+    >>> intersects(AABB((0, 0, 0), (1, 1, 1)), AABB((1, 1, 1), (2, 2, 2)))   # touching corners
+    True
+    """
+    return separation(a, b).distance <= 0.0
+
+
+def distance(a: Shape, b: Shape) -> float:
+    """Signed distance: the gap when apart, 0 when touching, minus the depth when overlapping.
+
+    >>> distance(Plane((0, 0, 0), (0, 0, 1)), Sphere((0, 0, 0.25), 1))
+    -0.75
+    """
+    return separation(a, b).distance

@@ -1,0 +1,227 @@
+"""The shapes: frozen dataclasses, validated at construction.
+
+Moving shapes are :class:`Circle` (2D, in the x-y plane), :class:`Sphere` and :class:`AABB`
+(2D or 3D); boundaries are :class:`Line` (2D, infinite) and :class:`Plane` (infinite). Every
+constructor accepts a :class:`~collisionlab.vector.Vector3D` or a list of 2 or 3 numbers where a
+vector is expected, and raises :class:`~collisionlab.errors.InvalidInputError` naming the field.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .errors import InvalidInputError
+from .tolerances import COLLINEAR_SINE
+from .validate import positive
+from .vector import Vector3D, VectorLike, as_vector
+
+__all__ = ["AABB", "Circle", "Line", "Plane", "Shape", "Sphere"]
+
+
+def _vector(owner: object, name: str, value: object) -> Vector3D:
+    vector = as_vector(value, name)
+    object.__setattr__(owner, name, vector)
+    return vector
+
+
+def _require_planar(value: Vector3D, field: str) -> None:
+    if value.z != 0.0:
+        raise InvalidInputError(field, "must lie in the x-y plane (z = 0) for a 2D shape", got=value.as_tuple())
+
+
+@dataclass(frozen=True, slots=True)
+class Circle:
+    """A circle in the x-y plane (``center.z`` must be 0).
+
+    >>> Circle((1, 2), 0.5)
+    Circle(center=Vector3D(x=1.0, y=2.0, z=0.0), radius=0.5)
+    >>> Circle((0, 0), 0)
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: radius: must be > 0 (got 0.0)
+    """
+
+    center: Vector3D
+    radius: float
+
+    def __post_init__(self) -> None:
+        _require_planar(_vector(self, "center", self.center), "center")
+        object.__setattr__(self, "radius", positive(self.radius, "radius"))
+
+    def moved_to(self, center: Vector3D) -> Circle:
+        return Circle(center, self.radius)
+
+
+@dataclass(frozen=True, slots=True)
+class Sphere:
+    """A sphere.
+
+    >>> Sphere((0, 0, 1), 2).radius
+    2.0
+    """
+
+    center: Vector3D
+    radius: float
+
+    def __post_init__(self) -> None:
+        _vector(self, "center", self.center)
+        object.__setattr__(self, "radius", positive(self.radius, "radius"))
+
+    def moved_to(self, center: Vector3D) -> Sphere:
+        return Sphere(center, self.radius)
+
+
+@dataclass(frozen=True, slots=True)
+class AABB:
+    """An axis-aligned box given by two opposite corners (lab eqs. 4 and 5).
+
+    The box is 2D when both corners have ``z == 0`` (a box with no extent in z at z = 0, which is
+    what 2-component corners give); otherwise it is 3D. ``min_corner <= max_corner`` on every
+    axis; equal bounds (a flat box) are allowed.
+
+    >>> box = AABB.from_center_size((0, 0, 0), (2, 4, 6))
+    >>> box.min_corner, box.max_corner, box.dim
+    (Vector3D(x=-1.0, y=-2.0, z=-3.0), Vector3D(x=1.0, y=2.0, z=3.0), 3)
+    >>> AABB((0, 0), (1, 1)).dim
+    2
+    >>> AABB((0, 2), (1, 1))
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: max_corner: must be >= min_corner on every axis; y is 1.0 < 2.0
+    """
+
+    min_corner: Vector3D
+    max_corner: Vector3D
+
+    def __post_init__(self) -> None:
+        low = _vector(self, "min_corner", self.min_corner)
+        high = _vector(self, "max_corner", self.max_corner)
+        for axis, lo, hi in zip("xyz", low, high, strict=True):
+            if hi < lo:
+                raise InvalidInputError(
+                    "max_corner", f"must be >= min_corner on every axis; {axis} is {hi!r} < {lo!r}"
+                )
+
+    @staticmethod
+    def from_center_size(center: VectorLike, size: VectorLike) -> AABB:
+        """A box from its centre and its full edge lengths (2 or 3 numbers, each > 0).
+
+        >>> AABB.from_center_size((1, 1), (2, 2))
+        AABB(min_corner=Vector3D(x=0.0, y=0.0, z=0.0), max_corner=Vector3D(x=2.0, y=2.0, z=0.0))
+        """
+        c = as_vector(center, "center")
+        s = as_vector(size, "size")
+        sizes = list(s)
+        is_2d = not isinstance(size, Vector3D) and len(size) == 2
+        for axis, edge in zip("xyz", sizes[: 2 if is_2d else 3], strict=False):
+            positive(edge, f"size.{axis}")
+        if is_2d:
+            _require_planar(c, "center")
+        half = s * 0.5
+        return AABB(c - half, c + half)
+
+    @property
+    def dim(self) -> int:
+        return 2 if self.min_corner.z == 0.0 and self.max_corner.z == 0.0 else 3
+
+    @property
+    def center(self) -> Vector3D:
+        return (self.min_corner + self.max_corner) * 0.5
+
+    @property
+    def half_size(self) -> Vector3D:
+        return (self.max_corner - self.min_corner) * 0.5
+
+    def moved_to(self, center: Vector3D) -> AABB:
+        half = self.half_size
+        return AABB(center - half, center + half)
+
+
+@dataclass(frozen=True, slots=True)
+class Line:
+    """An infinite line in the x-y plane through ``point`` along ``direction`` (lab part IV.A).
+
+    ``direction`` is kept as given (any non-zero length); ``unit_direction`` and ``unit_normal``
+    (the direction turned +90 degrees about z) are derived.
+
+    >>> Line((0, 0), (2, 0)).unit_normal
+    Vector3D(x=-0.0, y=1.0, z=0.0)
+    >>> Line((0, 0), (0, 0))
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: direction: must not be the zero vector (got (0.0, 0.0, 0.0))
+    """
+
+    point: Vector3D
+    direction: Vector3D
+
+    def __post_init__(self) -> None:
+        _require_planar(_vector(self, "point", self.point), "point")
+        direction = _vector(self, "direction", self.direction)
+        _require_planar(direction, "direction")
+        direction.normalized("direction")
+
+    @property
+    def unit_direction(self) -> Vector3D:
+        return self.direction.normalized("direction")
+
+    @property
+    def unit_normal(self) -> Vector3D:
+        d = self.unit_direction
+        return Vector3D(-d.y, d.x, 0.0)
+
+
+@dataclass(frozen=True, slots=True)
+class Plane:
+    """An infinite plane through ``point`` with normal ``normal`` (lab part IV.B).
+
+    >>> Plane.from_points((0, 0, 0), (1, 0, 0), (0, 0, 1)).unit_normal
+    Vector3D(x=0.0, y=-1.0, z=0.0)
+    >>> Plane((0, 0, 0), (0, 0, 0))
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: normal: must not be the zero vector (got (0.0, 0.0, 0.0))
+    """
+
+    point: Vector3D
+    normal: Vector3D
+
+    def __post_init__(self) -> None:
+        _vector(self, "point", self.point)
+        _vector(self, "normal", self.normal).normalized("normal")
+
+    @property
+    def unit_normal(self) -> Vector3D:
+        return self.normal.normalized("normal")
+
+    @staticmethod
+    def from_points(a: VectorLike, b: VectorLike, c: VectorLike) -> Plane:
+        """The plane through three non-collinear points, normal ``(b - a) x (c - a)``
+        (right-hand rule: counter-clockwise ``a, b, c`` seen from the side the normal points to).
+
+        Points are collinear (refused, field ``points``) when the sine of the angle between
+        ``b - a`` and ``c - a`` is at most ``COLLINEAR_SINE``; a relative test, so it does not
+        depend on the scale of the points. Coincident points are collinear.
+
+        >>> Plane.from_points((0, 0, 0), (1, 0, 0), (0, 1, 0)).normal
+        Vector3D(x=0.0, y=0.0, z=1.0)
+        >>> Plane.from_points((0, 0, 0), (1, 1, 1), (2, 2, 2))
+        Traceback (most recent call last):
+        ...
+        collisionlab.errors.InvalidInputError: points: the three points must not be collinear or coincident
+        """
+        pa = as_vector(a, "points[0]")
+        pb = as_vector(b, "points[1]")
+        pc = as_vector(c, "points[2]")
+        ab = pb - pa
+        ac = pc - pa
+        normal = ab.cross(ac)
+        scale = ab.length() * ac.length()
+        if scale == 0.0 or normal.length() <= COLLINEAR_SINE * scale:
+            raise InvalidInputError("points", "the three points must not be collinear or coincident")
+        # Normalise through the unit edges so tiny or huge coordinates cannot under/overflow.
+        unit_normal = ab.normalized("points").cross(ac.normalized("points")).normalized("points")
+        return Plane(pa, unit_normal)
+
+
+Shape = Circle | Sphere | AABB | Line | Plane

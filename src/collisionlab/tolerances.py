@@ -1,0 +1,48 @@
+"""The one home of every numerical tolerance in collisionlab.
+
+Each constant has a unit (or is dimensionless) and a reason. Code elsewhere imports these
+names; no bare epsilon literal appears anywhere else in the package.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "COLLINEAR_SINE",
+    "CONTACT_SLOP",
+    "FALLBACK_NORMAL",
+    "REST_SPEED",
+    "TIME_EPSILON",
+    "TOI_SEPARATION",
+]
+
+#: Dimensionless. Three plane points are collinear when the sine of the angle between the two
+#: edges ``b - a`` and ``c - a`` is at most this. Relative, so it is scale free: points 1e-6 apart
+#: and points 1e6 apart are judged alike. 1e-12 is ~4500 ulp of 1.0, far above rounding noise
+#: of one cross product and far below any plane a person means to give.
+COLLINEAR_SINE: float = 1e-12
+
+#: The unit axis used as contact normal when the two features coincide (coincident centres,
+#: a centre exactly on a line): ``(1, 0, 0)``, pointing from shape A to shape B.
+FALLBACK_NORMAL: tuple[float, float, float] = (1.0, 0.0, 0.0)
+
+#: Metres. After a collision is resolved, overlapping bodies are pushed apart until they are
+#: separated by this gap, so the same pair is not detected again on the next step (no double
+#: bounce). Relative to nothing: scenes are expected in metres at human scale. Box2D's linear
+#: slop is 5 mm; ours is much smaller because we push apart fully rather than softly.
+CONTACT_SLOP: float = 1e-9
+
+#: Metres per second. A contact whose approach speed along the normal is below this stops
+#: bouncing (restitution is treated as 0), so a ball under gravity comes to rest instead of
+#: making an endless run of ever smaller bounces. Box2D's restitution threshold is 1 m/s; ours
+#: is small so that the lab's constant-velocity cases are never affected.
+REST_SPEED: float = 1e-3
+
+#: Seconds. Two events closer in time than this within one step are treated as simultaneous
+#: by the exact (time of impact) stepper, and a remaining step shorter than this is finished
+#: without another search.
+TIME_EPSILON: float = 1e-12
+
+#: Metres. Time of impact targets a separation of this gap rather than exact touching, so
+#: that after moving to the time of impact the shapes are touching but not overlapping even
+#: after rounding (Box2D's ``b2_linearSlop`` plays the same role in ``b2TimeOfImpact``).
+TOI_SEPARATION: float = 1e-10

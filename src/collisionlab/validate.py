@@ -1,0 +1,64 @@
+"""Input checks shared by shapes, resolution, the world and scenario files.
+
+Each check returns the cleaned value or raises :class:`InvalidInputError` naming the field.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+from .errors import InvalidInputError
+
+__all__ = ["finite_number", "non_negative", "positive", "positive_or_inf", "whole_number"]
+
+
+def finite_number(value: object, field: str) -> float:
+    """A real, finite number as a float.
+
+    >>> finite_number(2, "dt")
+    2.0
+    >>> finite_number(float("nan"), "dt")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: dt: must be a finite number (got nan)
+    """
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InvalidInputError(field, "must be a number", got=value)
+    number = float(value)
+    if not math.isfinite(number):
+        raise InvalidInputError(field, "must be a finite number", got=number)
+    return number
+
+
+def positive(value: object, field: str) -> float:
+    """A finite number > 0."""
+    number = finite_number(value, field)
+    if number <= 0.0:
+        raise InvalidInputError(field, "must be > 0", got=number)
+    return number
+
+
+def non_negative(value: object, field: str) -> float:
+    """A finite number >= 0."""
+    number = finite_number(value, field)
+    if number < 0.0:
+        raise InvalidInputError(field, "must be >= 0", got=number)
+    return number
+
+
+def positive_or_inf(value: object, field: str) -> float:
+    """A number > 0, where ``math.inf`` is allowed (a static body's mass)."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == math.inf:
+        return math.inf
+    return positive(value, field)
+
+
+def whole_number(value: object, field: str, minimum: int = 1) -> int:
+    """An integer >= ``minimum`` (floats with no fractional part are accepted)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
+    number = float(value)
+    if not math.isfinite(number) or number != int(number) or number < minimum:
+        raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
+    return int(number)

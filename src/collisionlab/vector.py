@@ -1,0 +1,195 @@
+"""``Vector3D``: an immutable 3-vector with the projections of the lab's part I.
+
+2D work uses ``z = 0``. Every component is a finite float: NaN and inf are refused at
+construction, so they cannot enter any shape or any simulation state.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+
+from .errors import InvalidInputError
+from .validate import finite_number
+
+__all__ = ["Vector3D", "VectorLike", "as_vector"]
+
+
+@dataclass(frozen=True, slots=True)
+class Vector3D:
+    """An immutable vector ``(x, y, z)`` of finite floats.
+
+    >>> a = Vector3D(1, 2, 3)
+    >>> b = Vector3D(4, 5, 6)
+    >>> a + b, b - a, 2 * a, a / 2, -a
+    (Vector3D(x=5.0, y=7.0, z=9.0), Vector3D(x=3.0, y=3.0, z=3.0), Vector3D(x=2.0, y=4.0, z=6.0), \
+Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
+    >>> a.dot(b), tuple(a.cross(b))
+    (32.0, (-3.0, 6.0, -3.0))
+    >>> Vector3D(3, 4).length()
+    5.0
+    """
+
+    x: float
+    y: float
+    z: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "x", finite_number(self.x, "x"))
+        object.__setattr__(self, "y", finite_number(self.y, "y"))
+        object.__setattr__(self, "z", finite_number(self.z, "z"))
+
+    # --- container protocol -------------------------------------------------------------
+    def __iter__(self) -> Iterator[float]:
+        yield self.x
+        yield self.y
+        yield self.z
+
+    def __len__(self) -> int:
+        return 3
+
+    def as_tuple(self) -> tuple[float, float, float]:
+        return (self.x, self.y, self.z)
+
+    # --- arithmetic ----------------------------------------------------------------------
+    def __add__(self, other: Vector3D) -> Vector3D:
+        return Vector3D(self.x + other.x, self.y + other.y, self.z + other.z)
+
+    def __sub__(self, other: Vector3D) -> Vector3D:
+        return Vector3D(self.x - other.x, self.y - other.y, self.z - other.z)
+
+    def __mul__(self, scalar: float) -> Vector3D:
+        return Vector3D(self.x * scalar, self.y * scalar, self.z * scalar)
+
+    __rmul__ = __mul__
+
+    def __truediv__(self, scalar: float) -> Vector3D:
+        if scalar == 0:
+            raise InvalidInputError("divisor", "must not be zero", got=scalar)
+        return Vector3D(self.x / scalar, self.y / scalar, self.z / scalar)
+
+    def __neg__(self) -> Vector3D:
+        return Vector3D(-self.x, -self.y, -self.z)
+
+    def dot(self, other: Vector3D) -> float:
+        return self.x * other.x + self.y * other.y + self.z * other.z
+
+    def cross(self, other: Vector3D) -> Vector3D:
+        """The cross product ``self x other`` (lab part I.A.3).
+
+        >>> Vector3D(1, 0, 0).cross(Vector3D(0, 1, 0))
+        Vector3D(x=0.0, y=0.0, z=1.0)
+        """
+        return Vector3D(
+            self.y * other.z - self.z * other.y,
+            self.z * other.x - self.x * other.z,
+            self.x * other.y - self.y * other.x,
+        )
+
+    def length_squared(self) -> float:
+        return self.dot(self)
+
+    def length(self) -> float:
+        # hypot avoids overflow/underflow of the squares for very large or small components.
+        return math.hypot(self.x, self.y, self.z)
+
+    def normalized(self, field: str = "vector") -> Vector3D:
+        """The unit vector along ``self``; a zero vector is refused, naming ``field``.
+
+        >>> Vector3D(0, 3, 4).normalized()
+        Vector3D(x=0.0, y=0.6, z=0.8)
+        >>> Vector3D(0, 0, 0).normalized("direction")
+        Traceback (most recent call last):
+        ...
+        collisionlab.errors.InvalidInputError: direction: must not be the zero vector \
+(got (0.0, 0.0, 0.0))
+        """
+        length = self.length()
+        if length == 0.0:
+            raise InvalidInputError(field, "must not be the zero vector", got=self.as_tuple())
+        return Vector3D(self.x / length, self.y / length, self.z / length)
+
+    # --- lab part I ------------------------------------------------------------------------
+    def parallel_projection(self, onto: VectorLike) -> Vector3D:
+        """The component of ``self`` along ``onto``: ``Proj_onto(v) = (v.onto / |onto|^2) onto``
+        (lab eq. 22).
+
+        >>> Vector3D(3, 4).parallel_projection((1, 0))
+        Vector3D(x=3.0, y=0.0, z=0.0)
+        >>> Vector3D(1, 1, 0).parallel_projection((2, 2, 0))
+        Vector3D(x=1.0, y=1.0, z=0.0)
+        """
+        axis = as_vector(onto, "onto")
+        denominator = axis.length_squared()
+        if denominator == 0.0:
+            raise InvalidInputError("onto", "must not be the zero vector", got=axis.as_tuple())
+        return axis * (self.dot(axis) / denominator)
+
+    def perpendicular_projection(self, onto: VectorLike) -> Vector3D:
+        """``self`` minus its parallel projection onto ``onto``.
+
+        >>> Vector3D(3, 4).perpendicular_projection((1, 0))
+        Vector3D(x=0.0, y=4.0, z=0.0)
+        """
+        return self - self.parallel_projection(onto)
+
+    @staticmethod
+    def closest_point_on_line(point_on_line: VectorLike, direction: VectorLike, point: VectorLike) -> Vector3D:
+        """Closest point ``S`` on the line through ``P`` with direction ``d`` to the point ``Q``:
+        ``S = P + Proj_d(PQ)`` (lab eq. 6; Ericson 5.1.2). Works for 2D points with z = 0.
+
+        >>> Vector3D.closest_point_on_line((0, 0), (1, 0), (3, 4))
+        Vector3D(x=3.0, y=0.0, z=0.0)
+        >>> Vector3D.closest_point_on_line((1, 1), (2, 2), (0, 2))   # P + ((-1,1).(2,2)/8)(2,2) = P
+        Vector3D(x=1.0, y=1.0, z=0.0)
+        """
+        p = as_vector(point_on_line, "point_on_line")
+        d = as_vector(direction, "direction")
+        q = as_vector(point, "point")
+        if d.length_squared() == 0.0:
+            raise InvalidInputError("direction", "must not be the zero vector", got=d.as_tuple())
+        return p + (q - p).parallel_projection(d)
+
+    @staticmethod
+    def closest_point_on_plane(point_on_plane: VectorLike, normal: VectorLike, point: VectorLike) -> Vector3D:
+        """Closest point ``S`` on the plane through ``P`` with normal ``n`` to ``Q``:
+        ``S = Q - Proj_n(PQ)`` (lab eq. 8; Ericson 5.1.1).
+
+        >>> Vector3D.closest_point_on_plane((0, 0, 0), (0, 0, 2), (1, 2, 5))
+        Vector3D(x=1.0, y=2.0, z=0.0)
+        """
+        p = as_vector(point_on_plane, "point_on_plane")
+        n = as_vector(normal, "normal")
+        q = as_vector(point, "point")
+        if n.length_squared() == 0.0:
+            raise InvalidInputError("normal", "must not be the zero vector", got=n.as_tuple())
+        return q - (q - p).parallel_projection(n)
+
+
+VectorLike = Vector3D | Sequence[float]
+
+
+def as_vector(value: object, field: str) -> Vector3D:
+    """A :class:`Vector3D` from a ``Vector3D`` or a sequence of 2 or 3 finite numbers.
+
+    >>> as_vector((1, 2), "velocity")
+    Vector3D(x=1.0, y=2.0, z=0.0)
+    >>> as_vector((1, 2, 3, 4), "velocity")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: velocity: must have 2 or 3 components, \
+like [x, y] or [x, y, z] (got (1, 2, 3, 4))
+    """
+    if isinstance(value, Vector3D):
+        return value
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+        if hasattr(value, "__len__") and hasattr(value, "__getitem__") and not isinstance(value, (str, bytes)):
+            value = list(value)  # type: ignore[call-overload]  # numpy arrays and similar
+        else:
+            raise InvalidInputError(field, "must be a list of 2 or 3 numbers, like [x, y, z]", got=value)
+    assert isinstance(value, Sequence)
+    if len(value) not in (2, 3):
+        raise InvalidInputError(field, "must have 2 or 3 components, like [x, y] or [x, y, z]", got=value)
+    components = [finite_number(c, f"{field}[{i}]") for i, c in enumerate(value)]
+    return Vector3D(*components)
