@@ -8,6 +8,7 @@ from __future__ import annotations
 
 __all__ = [
     "COLLINEAR_SINE",
+    "CONTACT_MARGIN",
     "CONTACT_SLOP",
     "FALLBACK_NORMAL",
     "REST_SPEED",
@@ -46,3 +47,9 @@ TIME_EPSILON: float = 1e-12
 #: that after moving to the time of impact the shapes are touching but not overlapping even
 #: after rounding (Box2D's ``b2_linearSlop`` plays the same role in ``b2TimeOfImpact``).
 TOI_SEPARATION: float = 1e-10
+
+#: Metres. A pair that has collided stays "in contact" (its next impulse is not a new impact
+#: and is not reported again) until its distance grows beyond this. It also decides when a body
+#: lies on a static obstacle (resting contact, exact mode). Larger than ``CONTACT_SLOP`` so that
+#: the push-apart gap never reads as a separation.
+CONTACT_MARGIN: float = 1e-7

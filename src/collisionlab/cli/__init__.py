@@ -1,15 +1,119 @@
-"""The ``collisionlab`` command line (placeholder until the simulator lands)."""
+"""The ``collisionlab`` command line: parsing, prompting and printing only; no physics.
+
+Exit status: 0 success, 1 end of input or other failure, 2 bad command-line usage,
+65 invalid scenario data, 130 interrupted.
+"""
 
 from __future__ import annotations
 
+import argparse
 import sys
+from collections.abc import Sequence
 
-__all__ = ["entry_point", "main"]
+from ..errors import CollisionLabError, InvalidInputError
+from ..scenario_file import ScenarioError
+from . import gas_command
+from .menu import run_menu
+from .run_command import add_run_parsers
+from .streams import Streams
+
+__all__ = ["EXIT_DATA", "EXIT_FAILURE", "EXIT_INTERRUPTED", "EXIT_USAGE", "Streams", "entry_point", "main"]
+
+EXIT_FAILURE = 1
+EXIT_USAGE = 2
+EXIT_DATA = 65  # EX_DATAERR from sysexits.h
+EXIT_INTERRUPTED = 130
 
 
-def main(argv: list[str] | None = None) -> int:
-    return 0
+class UsageError(Exception):
+    """Bad command-line usage (exit status 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that writes to our streams and raises instead of exiting, so tests can drive it."""
+
+    streams: Streams
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise UsageError(f"{self.prog}: {message}")
+
+    def _print_message(self, message: str, file: object = None) -> None:
+        if message:
+            self.streams.stdout.write(message)
+
+    def exit(self, status: int = 0, message: str | None = None) -> None:  # type: ignore[override]
+        if message:
+            self.streams.stderr.write(message)
+        raise SystemExit(status)
+
+
+def build_parser(streams: Streams) -> argparse.ArgumentParser:
+    class Parser(_Parser):
+        pass
+
+    Parser.streams = streams
+    parser = Parser(
+        prog="collisionlab",
+        description=(
+            "Collision detection and resolution of simple shapes. With no arguments on a terminal, "
+            "the lab's menu asks which case to simulate and its parameters."
+        ),
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
+    menu = sub.add_parser("menu", help="the lab's interactive menu (also reads answers from a pipe)")
+    menu.set_defaults(func=lambda args, streams: run_menu(streams))
+    add_run_parsers(sub)
+    gas_command.add_parser(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> int:
+    """Run the command line with ``argv`` and return the exit status (never raises)."""
+    streams = streams or Streams()
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(streams)
+    try:
+        if not args_list:
+            if streams.interactive:
+                return run_menu(streams)
+            parser.print_usage()
+            streams.err("collisionlab: no command given and standard input is not a terminal; "
+                        "use 'collisionlab menu' to answer the menu from a pipe, or 'collisionlab demo'")
+            return EXIT_USAGE
+        args = parser.parse_args(args_list)
+        if args.command is None:
+            parser.print_usage()
+            return EXIT_USAGE
+        status: int = args.func(args, streams)
+        return status
+    except UsageError as error:
+        parser.print_usage()
+        streams.err(str(error))
+        return EXIT_USAGE
+    except SystemExit as stop:  # --help and argparse's own exits
+        return stop.code if isinstance(stop.code, int) else EXIT_FAILURE
+    except ScenarioError as error:
+        streams.err(f"collisionlab: invalid scenario: {error}")
+        return EXIT_DATA
+    except InvalidInputError as error:
+        streams.err(f"collisionlab: {error}")
+        return EXIT_USAGE
+    except CollisionLabError as error:
+        streams.err(f"collisionlab: {error}")
+        return EXIT_FAILURE
+    except KeyboardInterrupt:
+        streams.err("\ncollisionlab: interrupted")
+        return EXIT_INTERRUPTED
+    except EOFError:
+        streams.err("\ncollisionlab: end of input")
+        return EXIT_FAILURE
+    except BrokenPipeError:
+        return EXIT_FAILURE
+    except OSError as error:
+        streams.err(f"collisionlab: {error.filename or ''}: {error.strerror or error}")
+        return EXIT_FAILURE
 
 
 def entry_point() -> None:
-    sys.exit(main(sys.argv[1:]))
+    """The console script."""
+    sys.exit(main())

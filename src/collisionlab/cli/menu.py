@@ -1,0 +1,287 @@
+"""The lab's interactive menu (part VI.A-B): which case, then every parameter, each with a
+default in brackets that Enter accepts and the expected form. A bad answer prints a one-line
+reason and the question is asked again. The answers become a scenario through the same
+validation as a scenario file, so the menu holds no physics."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from ..errors import InvalidInputError
+from ..scenario_file import parse_scenario, scenario_to_toml
+from ..shapes import Plane
+from ..validate import finite_number, non_negative, positive, whole_number
+from ..vector import Vector3D
+from ..world import World
+from .atomic import write_text_atomically
+from .progress import ProgressBar
+from .render import render_table
+from .streams import Streams
+
+__all__ = ["CASES", "run_menu"]
+
+Answers = dict[str, Any]
+
+
+@dataclass(frozen=True)
+class Question:
+    """One prompt: ``key`` names the answer, ``parse`` turns the text into a value or raises
+    :class:`InvalidInputError` (it also sees the earlier answers, for the plane's third point)."""
+
+    key: str
+    text: str
+    form: str
+    default: str
+    parse: Callable[[str, Answers], Any]
+
+
+def _numbers(text: str, count: int, field: str) -> list[float]:
+    parts = text.replace(",", " ").split()
+    if len(parts) != count:
+        form = " ".join("xyz"[:count])
+        raise InvalidInputError(field, f"expected {count} numbers like '{form}', got {len(parts)}")
+    values = []
+    for part in parts:
+        try:
+            values.append(float(part))
+        except ValueError:
+            raise InvalidInputError(field, f"'{part}' is not a number") from None
+    return [finite_number(v, field) for v in values]
+
+
+def _vector(dims: int) -> Callable[[str, Answers], list[float]]:
+    return lambda text, answers: _numbers(text, dims, "vector")
+
+
+def _direction(dims: int) -> Callable[[str, Answers], list[float]]:
+    def parse(text: str, answers: Answers) -> list[float]:
+        values = _numbers(text, dims, "direction")
+        Vector3D(*values).normalized("direction")
+        return values
+
+    return parse
+
+
+def _size(dims: int) -> Callable[[str, Answers], list[float]]:
+    return lambda text, answers: [positive(v, "size") for v in _numbers(text, dims, "size")]
+
+
+def _positive(field: str) -> Callable[[str, Answers], float]:
+    return lambda text, answers: positive(_numbers(text, 1, field)[0], field)
+
+
+def _restitution(text: str, answers: Answers) -> float:
+    return non_negative(_numbers(text, 1, "restitution")[0], "restitution")
+
+
+def _steps(text: str, answers: Answers) -> int:
+    value = _numbers(text, 1, "steps")[0]
+    return whole_number(value, "steps", minimum=1)
+
+
+def _mode(text: str, answers: Answers) -> str:
+    choice = text.strip().lower()
+    if choice not in ("euler", "exact"):
+        raise InvalidInputError("mode", "expected 'euler' (the lab's Forward Euler) or 'exact' (time of impact)")
+    return choice
+
+
+def _third_point(text: str, answers: Answers) -> list[float]:
+    point = _numbers(text, 3, "point 3")
+    try:
+        Plane.from_points(answers["p1"], answers["p2"], point)
+    except InvalidInputError:
+        raise InvalidInputError("point 3", "the three points are collinear or coincident: they span no plane") from None
+    return point
+
+
+def _body(label: str, key: str, dims: int, kind: str, position: str, extent: str, velocity: str) -> list[Question]:
+    form = "x y z, three numbers" if dims == 3 else "x y, two numbers"
+    questions = [Question(f"{key}.position", f"initial position of {label}", form, position, _vector(dims))]
+    if kind == "aabb":
+        size_form = "edge lengths along x y z, three numbers > 0" if dims == 3 else "edge lengths along x y, > 0"
+        questions.append(Question(f"{key}.size", f"extent of {label}", size_form, extent, _size(dims)))
+    else:
+        questions.append(Question(f"{key}.radius", f"radius of {label}", "a number > 0", extent, _positive("radius")))
+    questions.append(Question(f"{key}.velocity", f"initial velocity of {label}", form, velocity, _vector(dims)))
+    return questions
+
+
+def _mass(label: str, key: str, default: str) -> Question:
+    return Question(f"{key}.mass", f"mass of {label}", "kg, a number > 0", default, _positive("mass"))
+
+
+def _common(e: str, dt: str, steps: str) -> list[Question]:
+    return [
+        Question("restitution", "coefficient of restitution e", "a number >= 0; 1 elastic, 0 sticks", e, _restitution),
+        Question("dt", "time step dt", "seconds, > 0", dt, _positive("dt")),
+        Question("steps", "number of steps", "a whole number >= 1", steps, _steps),
+        Question("mode", "stepping", "euler (the lab's) or exact (nothing tunnels)", "euler", _mode),
+    ]
+
+
+def _two_bodies(kind: str, shape: str, dims: int, defaults: tuple[str, ...]) -> list[Question]:
+    pa, ea, va, pb, eb, vb = defaults
+    return [
+        *_body(f"{kind} A", "a", dims, shape, pa, ea, va),
+        _mass(f"{kind} A", "a", "1"),
+        *_body(f"{kind} B", "b", dims, shape, pb, eb, vb),
+        _mass(f"{kind} B", "b", "1"),
+    ]
+
+
+@dataclass(frozen=True)
+class Case:
+    title: str
+    questions: list[Question]
+    body_shape: str
+    static_shape: str | None
+
+
+CASES: list[Case] = [
+    Case("AABB in 3D", [
+        *_two_bodies("box", "aabb", 3, ("0 0 0", "1 1 1", "1 0 0", "3.05 0.2 0.1", "1 1 1", "-1 0 0")),
+        *_common("1", "0.01", "200"),
+    ], "aabb", None),
+    Case("sphere and sphere", [
+        *_two_bodies("sphere", "sphere", 3, ("0 0 0", "0.5", "1 0 0", "3 0.3 0", "0.5", "-1 0 0")),
+        *_common("1", "0.01", "200"),
+    ], "sphere", None),
+    Case("circle and line", [
+        *_body("the circle", "a", 2, "circle", "0 2.01", "0.5", "1 -2"),
+        Question("line.direction", "direction of the line", "dx dy, two numbers, not both 0", "1 0", _direction(2)),
+        Question("line.point", "a point on the line", "x y, two numbers", "0 0", _vector(2)),
+        *_common("0.8", "0.01", "150"),
+    ], "circle", "line"),
+    Case("sphere and plane", [
+        *_body("the sphere", "a", 3, "sphere", "0 3.01 0", "0.5", "1 -2 0.5"),
+        Question("p1", "first point on the plane", "x y z, three numbers", "0 0 0", _vector(3)),
+        Question("p2", "second point on the plane", "x y z, three numbers", "0 0 1", _vector(3)),
+        Question("p3", "third point on the plane", "x y z, not on the line through the first two", "1 0 0",
+                 _third_point),
+        *_common("0.8", "0.01", "200"),
+    ], "sphere", "plane"),
+    Case("circle and circle", [
+        *_two_bodies("circle", "circle", 2, ("0 0", "0.5", "1 0", "3 0.4", "0.5", "-1 0")),
+        *_common("1", "0.01", "200"),
+    ], "circle", None),
+    Case("AABB in 2D", [
+        *_two_bodies("box", "aabb", 2, ("0 0", "1 1", "1 0", "3.05 0.3", "1 1", "-1 0")),
+        *_common("1", "0.01", "200"),
+    ], "aabb", None),
+    Case("sphere and a fixed box", [
+        *_body("the sphere", "a", 3, "sphere", "-3 0.5 0", "0.5", "2 0 0"),
+        Question("box.position", "centre of the fixed box", "x y z, three numbers", "0 0 0", _vector(3)),
+        Question("box.size", "extent of the fixed box", "edge lengths along x y z, > 0", "2 2 2", _size(3)),
+        *_common("0.9", "0.01", "200"),
+    ], "sphere", "aabb"),
+    Case("circle and a fixed box", [
+        *_body("the circle", "a", 2, "circle", "-3 0.8", "0.5", "3 0"),
+        Question("box.position", "centre of the fixed box", "x y, two numbers", "0 0", _vector(2)),
+        Question("box.size", "extent of the fixed box", "edge lengths along x y, > 0", "2 2", _size(2)),
+        *_common("0.9", "0.01", "150"),
+    ], "circle", "aabb"),
+]
+
+
+def _scenario_data(case: Case, answers: Answers) -> dict[str, Any]:
+    """The answers as the same data a scenario file gives (validated by the same code)."""
+
+    def body(key: str, name: str) -> dict[str, Any]:
+        data: dict[str, Any] = {"name": name, "shape": case.body_shape}
+        for field in ("position", "radius", "size", "velocity", "mass"):
+            if f"{key}.{field}" in answers:
+                data[field] = answers[f"{key}.{field}"]
+        return data
+
+    two = case.static_shape is None
+    noun = {"aabb": "box", "sphere": "sphere", "circle": "circle"}[case.body_shape]
+    bodies = [body("a", f"{noun} A"), body("b", f"{noun} B")] if two else [body("a", noun)]
+    statics: list[dict[str, Any]] = []
+    if case.static_shape == "line":
+        statics.append({"name": "line", "shape": "line", "point": answers["line.point"],
+                        "direction": answers["line.direction"]})
+    elif case.static_shape == "plane":
+        statics.append({"name": "plane", "shape": "plane", "points": [answers["p1"], answers["p2"], answers["p3"]]})
+    elif case.static_shape == "aabb":
+        statics.append({"name": "box", "shape": "aabb", "position": answers["box.position"],
+                        "size": answers["box.size"]})
+    simulation = {k: answers[k] for k in ("dt", "steps", "restitution", "mode")}
+    simulation["title"] = f"Menu: {case.title}"
+    return {"simulation": simulation, "body": bodies, "static": statics}
+
+
+class _Dialogue:
+    def __init__(self, streams: Streams) -> None:
+        self.streams = streams
+
+    def ask(self, prompt: str) -> str:
+        self.streams.stdout.write(prompt)
+        self.streams.stdout.flush()
+        line = self.streams.stdin.readline()
+        if not line:
+            raise EOFError
+        if not self.streams.interactive:
+            self.streams.stdout.write(line if line.endswith("\n") else line + "\n")
+        return line.strip()
+
+    def question(self, q: Question, answers: Answers) -> Any:
+        while True:
+            text = self.ask(f"{q.text} ({q.form}) [{q.default}]: ") or q.default
+            try:
+                value = q.parse(text, answers)
+            except InvalidInputError as error:
+                self.streams.out(f"  ! {error.problem if error.field in ('vector',) else error}; try again")
+                continue
+            if q.key == "restitution" and isinstance(value, float) and value > 1.0:
+                self.streams.out("  warning: e > 1: kinetic energy will grow with every collision (postlab Q4)")
+            return value
+
+    def yes(self, prompt: str) -> bool:
+        while True:
+            answer = self.ask(f"{prompt} [y/N]: ").lower()
+            if answer in ("", "n", "no"):
+                return False
+            if answer in ("y", "yes"):
+                return True
+            self.streams.out("  ! answer y or n")
+
+    def choose_case(self) -> Case:
+        self.streams.out("Which case?")
+        for number, case in enumerate(CASES, start=1):
+            self.streams.out(f"  {number}  {case.title}")
+        while True:
+            text = self.ask(f"case (1-{len(CASES)}) [4]: ") or "4"
+            if text.isdigit() and 1 <= int(text) <= len(CASES):
+                return CASES[int(text) - 1]
+            self.streams.out(f"  ! case: expected a number from 1 to {len(CASES)}; try again")
+
+
+def run_menu(streams: Streams) -> int:
+    """The whole dialogue: choose, answer, run and print; then offer a plot and a scenario file."""
+    dialogue = _Dialogue(streams)
+    streams.out("collisionlab: collision detection and resolution (the lab's part VI)")
+    case = dialogue.choose_case()
+    answers: Answers = {}
+    for q in case.questions:
+        answers[q.key] = dialogue.question(q, answers)
+    scenario = parse_scenario(_scenario_data(case, answers), "<menu>")
+    bar = ProgressBar(streams, scenario.title)
+    try:
+        record = World(scenario).run(progress=bar)
+    finally:
+        bar.close()
+    streams.stdout.write(render_table(record))
+    if dialogue.yes("save a plot?"):
+        path = dialogue.ask("plot file [collision.png]: ") or "collision.png"
+        from .. import plotting
+
+        plotting.save_plot(record, scenario, path)
+        streams.out(f"wrote {path}")
+    if dialogue.yes("save these answers as a scenario file?"):
+        path = dialogue.ask("scenario file [scenario.toml]: ") or "scenario.toml"
+        write_text_atomically(path, lambda: scenario_to_toml(scenario))
+        streams.out(f"wrote {path}; run it again with: collisionlab run {path}")
+    return 0

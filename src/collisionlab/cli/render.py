@@ -1,0 +1,157 @@
+"""Turn a :class:`~collisionlab.record.RunRecord` into text: the lab's table of positions with
+collision lines, CSV, JSON, the ``--explain`` working and the summary. Text only: no physics."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+
+from ..record import CollisionEvent, Frame, RunRecord, SkippedContact
+from ..vector import Vector3D
+
+__all__ = ["render", "render_csv", "render_json", "render_table"]
+
+_WIDTH = 11
+
+
+def _vec(v: Vector3D, dims: int = 3, digits: int = 3) -> str:
+    return "(" + ", ".join(f"{c:.{digits}f}" for c in v.as_tuple()[:dims]) + ")"
+
+
+def _number(x: float) -> str:
+    return "inf" if math.isinf(x) else f"{x:.4g}"
+
+
+def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
+    a, b = event.bodies
+    verb = f"{b} hits {a}" if event.static else f"{a} and {b} collide"
+    lines = [f"collision at step {event.step} (t = {event.time:.3f} s): {verb}"]
+    after = ", ".join(f"{name} = {_vec(v, dims)}" for name, v in event.velocities_after.items())
+    label = "velocity after" if len(event.velocities_after) == 1 else "velocities after"
+    if explain:
+        m_a, m_b = event.masses
+        inv_a = "0" if math.isinf(m_a) else f"1/{_number(m_a)}"
+        lines += [
+            f"    normal n = {_vec(event.normal, dims)} (from {a} to {b}), contact point {_vec(event.point, dims)}",
+            f"    v_n = (v_{b} - v_{a}) . n = {event.approach_speed:.4f} m/s (negative: approaching)",
+            (
+                f"    e = {event.restitution:g}"
+                + (" (approach slower than the rest threshold: no bounce)" if event.below_rest_threshold else "")
+            ),
+            (
+                f"    j = -(1 + e) v_n / (1/m_{a} + 1/m_{b}) = -(1 + {event.restitution:g})({event.approach_speed:.4f})"
+                f" / ({inv_a} + 1/{_number(m_b)}) = {event.impulse:.4f} N s"
+            ),
+        ]
+        for name, before in event.velocities_before.items():
+            sign = "-" if name == a else "+"
+            mass = m_a if name == a else m_b
+            lines.append(
+                f"    v_{name} {sign}= (j / {_number(mass)}) n: {_vec(before, dims)} -> "
+                f"{_vec(event.velocities_after[name], dims)}"
+            )
+        lines.append(
+            f"    kinetic energy {event.kinetic_energy_before:.4f} J -> {event.kinetic_energy_after:.4f} J"
+        )
+    lines.append(f"  {label}: {after} m/s")
+    return lines
+
+
+def _skip_line(skip: SkippedContact) -> str:
+    a, b = skip.bodies
+    return f"contact {a} / {b} at step {skip.step} (t = {skip.time:.3f} s) skipped: {skip.reason}"
+
+
+def _row(frame: Frame, dims: int) -> str:
+    cells = [f"{frame.step:>6}", f"{frame.time:>{_WIDTH}.4f}"]
+    for body in frame.bodies:
+        cells += [f"{c:>{_WIDTH}.4f}" for c in body.position.as_tuple()[:dims]]
+    return " ".join(cells)
+
+
+def _header(frame: Frame, dims: int) -> str:
+    cells = [f"{'step':>6}", f"{'t (s)':>{_WIDTH}}"]
+    for body in frame.bodies:
+        cells += [f"{(body.name + '.' + axis)[-_WIDTH:]:>{_WIDTH}}" for axis in "xyz"[:dims]]
+    return " ".join(cells)
+
+
+def summary_lines(record: RunRecord) -> list[str]:
+    ledger = record.ledger
+    count = len(record.events)
+    duration = record.frames[-1].time if record.frames else 0.0
+    lines = [
+        f"summary: {count} collision{'s' if count != 1 else ''} in {record.steps} steps "
+        f"({duration:.3f} s, mode {record.mode})",
+        f"  momentum        start {_vec(ledger.momentum_start)} kg m/s   end {_vec(ledger.momentum_end)} kg m/s",
+        f"  kinetic energy  start {ledger.kinetic_start:.6g} J   end {ledger.kinetic_end:.6g} J",
+    ]
+    if record.gravity != Vector3D(0, 0, 0):
+        lines.append(f"  potential       start {ledger.potential_start:.6g} J   end {ledger.potential_end:.6g} J")
+    lines.append(
+        f"  energy change {ledger.energy_end - ledger.energy_start:+.6g} J: collisions {ledger.collisions:+.6g} "
+        f"(theory (1-e^2)/2 mu v_n^2: {ledger.collisions_predicted:+.6g}), integrator {ledger.integrator:+.6g}, "
+        f"push-apart {ledger.push_apart:+.6g}, rounding {ledger.residual:+.2g}"
+    )
+    return lines
+
+
+def render_table(record: RunRecord, every: int = 1, quiet: bool = False, explain: bool = False) -> str:
+    """The lab's output: a row of positions per step, each collision announced after its step
+    with the velocity after it, warnings, then the summary. ``quiet`` keeps only events and
+    the summary."""
+    dims = record.dims
+    out: list[str] = [f"{record.title}  (dt = {record.dt:g} s, {record.steps} steps, mode {record.mode})"]
+    out += [f"warning: {w}" for w in record.warnings]
+    events_by_step: dict[int, list[str]] = {}
+    for event in record.events:
+        events_by_step.setdefault(event.step, []).extend(_event_lines(event, dims, explain))
+    if explain:
+        for skip in record.skipped:
+            events_by_step.setdefault(skip.step, []).append(_skip_line(skip))
+    if not quiet and record.frames:
+        out.append(_header(record.frames[0], dims))
+    last_step = -1
+    for frame in record.frames:
+        if not quiet and (frame.step % every == 0 or frame.step == record.steps):
+            out.append(_row(frame, dims))
+        for step in range(last_step + 1, frame.step + 1):
+            out += events_by_step.get(step, [])
+        last_step = frame.step
+    out += summary_lines(record)
+    return "\n".join(out) + "\n"
+
+
+def render_csv(record: RunRecord, every: int = 1) -> str:
+    """One row per kept frame: step, time, then x, y, z and vx, vy, vz of every body."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    if record.frames:
+        header = ["step", "time"]
+        for body in record.frames[0].bodies:
+            header += [f"{body.name}.{q}" for q in ("x", "y", "z", "vx", "vy", "vz")]
+        writer.writerow(header)
+    for frame in record.frames:
+        if frame.step % every and frame.step != record.steps:
+            continue
+        row: list[object] = [frame.step, repr(frame.time)]
+        for body in frame.bodies:
+            row += [repr(c) for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
+        writer.writerow(row)
+    return buffer.getvalue()
+
+
+def render_json(record: RunRecord, every: int = 1) -> str:
+    data = record.to_dict()
+    data["frames"] = [f for f in data["frames"] if f["step"] % every == 0 or f["step"] == record.steps]
+    return json.dumps(data, indent=1) + "\n"
+
+
+def render(record: RunRecord, fmt: str, every: int = 1, quiet: bool = False, explain: bool = False) -> str:
+    if fmt == "csv":
+        return render_csv(record, every)
+    if fmt == "json":
+        return render_json(record, every)
+    return render_table(record, every, quiet, explain)

@@ -1,0 +1,140 @@
+"""``collisionlab run FILE`` and ``collisionlab demo [NAME]``: run scenarios and print them."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import Any
+
+from ..demos import LAB_DEMOS, demo_names, load_demo
+from ..model import Scenario
+from ..record import RunRecord
+from ..scenario_file import load_scenario
+from ..world import World
+from .atomic import write_text_atomically
+from .progress import ProgressBar
+from .render import render
+from .streams import Streams
+
+__all__ = ["add_run_parsers", "execute", "positive_float", "positive_int"]
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}") from None
+    if not math.isfinite(value) or value <= 0.0:
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
+
+
+def _add_common(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--steps", type=positive_int, help="number of steps (overrides the scenario)")
+    parser.add_argument("--dt", type=positive_float, help="time step in seconds (overrides the scenario)")
+    parser.add_argument("--mode", choices=("euler", "exact"), help="stepping: the lab's Forward Euler, or exact "
+                        "time of impact (nothing tunnels); overrides the scenario")
+    parser.add_argument("--every", type=positive_int, default=1, metavar="K", help="print every K-th step")
+    parser.add_argument("--format", choices=("table", "csv", "json"), default="table", help="output format")
+    parser.add_argument("--output", metavar="FILE", help="write the output to FILE (atomically) instead of stdout")
+    parser.add_argument("--quiet", action="store_true", help="table: collisions and summary only, no positions")
+    parser.add_argument("--explain", action="store_true", help="show the working of every collision")
+    parser.add_argument("--plot", metavar="FILE.png", help="save trajectories and energy over time as a picture")
+    parser.add_argument("--animate", metavar="FILE.gif", help="save an animation (.gif, or .mp4 with ffmpeg)")
+    parser.add_argument("--html", metavar="FILE.html", help="save an interactive 3D page of the run")
+
+
+def add_run_parsers(sub: Any) -> None:
+    run = sub.add_parser("run", help="run a scenario file (TOML)")
+    run.add_argument("file", metavar="FILE.toml", help="the scenario file")
+    _add_common(run)
+    run.set_defaults(func=_run_file)
+    demo = sub.add_parser(
+        "demo",
+        help="run built-in scenarios (no NAME: the lab's four cases)",
+        description=f"Built-in scenarios: {', '.join(demo_names())}. With no NAME, the lab's four cases run.",
+    )
+    demo.add_argument("name", nargs="?", metavar="NAME", help="one of: " + ", ".join(demo_names()))
+    demo.add_argument("--list", action="store_true", help="list the built-in scenarios")
+    _add_common(demo)
+    demo.set_defaults(func=_run_demo)
+
+
+def _run_file(args: argparse.Namespace, streams: Streams) -> int:
+    return execute([load_scenario(args.file)], args, streams)
+
+
+def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
+    if args.list:
+        for name in demo_names():
+            lab = f"  (lab case {LAB_DEMOS.index(name) + 1})" if name in LAB_DEMOS else ""
+            streams.out(f"{name:<16}{load_demo(name).title}{lab}")
+        return 0
+    names = [args.name] if args.name else list(LAB_DEMOS)
+    return execute([load_demo(n) for n in names], args, streams)
+
+
+def _suffixed(path: str, scenario: Scenario, many: bool) -> str:
+    """With several scenarios, one picture each: the scenario's slug goes before the extension."""
+    if not many:
+        return path
+    p = Path(path)
+    slug = "".join(c if c.isalnum() else "-" for c in scenario.title.lower()).strip("-")
+    return str(p.with_name(f"{p.stem}-{slug}{p.suffix}"))
+
+
+def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, streams: Streams, many: bool) -> None:
+    if not (args.plot or args.animate or args.html):
+        return
+    from .. import plotting  # matplotlib and plotly load only when a picture is asked for
+
+    for option, save in (("plot", plotting.save_plot), ("animate", plotting.save_animation),
+                         ("html", plotting.save_html)):
+        target = getattr(args, option)
+        if target:
+            path = _suffixed(target, scenario, many)
+            save(record, scenario, path)
+            streams.err(f"wrote {path}")
+
+
+def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Streams) -> int:
+    """Apply the flags to each scenario, run it, and print or write the output."""
+    overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode") if getattr(args, k) is not None}
+    texts: list[str] = []
+    records: list[RunRecord] = []
+    for scenario in scenarios:
+        if overrides:
+            scenario = scenario.with_settings(**overrides)
+        bar = ProgressBar(streams, scenario.title)
+        try:
+            record = World(scenario).run(progress=bar)
+        finally:
+            bar.close()
+        records.append(record)
+        _pictures(record, scenario, args, streams, len(scenarios) > 1)
+        if args.format != "json":
+            texts.append(render(record, args.format, args.every, args.quiet, args.explain))
+    if args.format == "json":
+        from .render import render_json
+
+        parts = [render_json(r, args.every).rstrip("\n") for r in records]
+        text = parts[0] + "\n" if len(parts) == 1 else "[\n" + ",\n".join(parts) + "\n]\n"
+    else:
+        text = "\n".join(texts)
+    if args.output:
+        write_text_atomically(args.output, lambda: text)
+        streams.err(f"wrote {args.output}")
+    else:
+        streams.stdout.write(text)
+    return 0

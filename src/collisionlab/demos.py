@@ -1,0 +1,49 @@
+"""Built-in scenarios: the example files shipped inside the package (``examples/`` in the repo).
+
+The lab's four cases come first, numbered as in the lab's part VI.A.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from importlib import resources
+
+from .errors import InvalidInputError
+from .model import Scenario
+from .scenario_file import parse_scenario
+
+__all__ = ["LAB_DEMOS", "demo_names", "demo_text", "load_demo"]
+
+#: The lab's four cases, in the lab's order: 1 AABB in 3D, 2 sphere and sphere,
+#: 3 circle and line, 4 sphere and plane.
+LAB_DEMOS: tuple[str, ...] = ("aabb3d", "spheres", "circle-line", "sphere-plane")
+
+
+def _folder() -> resources.abc.Traversable:
+    return resources.files("collisionlab") / "examples"
+
+
+def demo_names() -> list[str]:
+    """Every built-in scenario: the lab's four first, then the rest alphabetically."""
+    others = sorted(
+        entry.name.removesuffix(".toml")
+        for entry in _folder().iterdir()
+        if entry.name.endswith(".toml") and entry.name.removesuffix(".toml") not in LAB_DEMOS
+    )
+    return [*LAB_DEMOS, *others]
+
+
+def demo_text(name: str) -> str:
+    """The TOML text of a built-in scenario."""
+    if name not in demo_names():
+        raise InvalidInputError("demo", f"unknown demo; expected one of {', '.join(demo_names())}", got=name)
+    return (_folder() / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def load_demo(name: str) -> Scenario:
+    """A built-in scenario by name.
+
+    >>> load_demo("sphere-plane").obstacles[0].shape.unit_normal
+    Vector3D(x=0.0, y=1.0, z=0.0)
+    """
+    return parse_scenario(tomllib.loads(demo_text(name)), f"examples/{name}.toml")

@@ -1,0 +1,200 @@
+"""The record of a run: frames, collision events, skipped contacts, the ledger and a summary.
+
+One record feeds every output (table, CSV, JSON, plots), so nothing is simulated twice.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from .vector import Vector3D
+
+__all__ = ["BodyState", "CollisionEvent", "Frame", "Ledger", "RunRecord", "SkippedContact"]
+
+
+def _vec(v: Vector3D) -> list[float]:
+    return [v.x, v.y, v.z]
+
+
+@dataclass(frozen=True)
+class BodyState:
+    name: str
+    position: Vector3D
+    velocity: Vector3D
+
+
+@dataclass(frozen=True)
+class Frame:
+    """The state after ``step`` steps, at ``time`` seconds (step 0 is the start)."""
+
+    step: int
+    time: float
+    bodies: tuple[BodyState, ...]
+
+
+@dataclass(frozen=True)
+class CollisionEvent:
+    """One resolved impact, with the working of the impulse (for ``--explain``).
+
+    ``normal`` points from ``bodies[0]`` to ``bodies[1]``; ``approach_speed`` is
+    ``v_n = (v_b - v_a) . n`` before (negative when approaching); ``impulse`` is
+    ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``. ``restitution`` is the e applied: 0 when the
+    approach was slower than the rest threshold. ``static`` says that ``bodies[0]`` is an
+    obstacle (infinite mass).
+    """
+
+    step: int
+    time: float
+    bodies: tuple[str, str]
+    static: bool
+    normal: Vector3D
+    point: Vector3D
+    approach_speed: float
+    impulse: float
+    restitution: float
+    masses: tuple[float, float]
+    velocities_before: dict[str, Vector3D]
+    velocities_after: dict[str, Vector3D]
+    kinetic_energy_before: float
+    kinetic_energy_after: float
+    below_rest_threshold: bool = False
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "step": self.step,
+            "time": self.time,
+            "bodies": list(self.bodies),
+            "static": self.static,
+            "normal": _vec(self.normal),
+            "point": _vec(self.point),
+            "approach_speed": self.approach_speed,
+            "impulse": self.impulse,
+            "restitution": self.restitution,
+            "velocities_before": {k: _vec(v) for k, v in self.velocities_before.items()},
+            "velocities_after": {k: _vec(v) for k, v in self.velocities_after.items()},
+            "kinetic_energy_before": self.kinetic_energy_before,
+            "kinetic_energy_after": self.kinetic_energy_after,
+            "below_rest_threshold": self.below_rest_threshold,
+        }
+
+
+@dataclass(frozen=True)
+class SkippedContact:
+    """A contact that got no impulse, and why ("separating", "resting")."""
+
+    step: int
+    time: float
+    bodies: tuple[str, str]
+    reason: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"step": self.step, "time": self.time, "bodies": list(self.bodies), "reason": self.reason}
+
+
+@dataclass
+class Ledger:
+    """Where energy went (J): total mechanical energy (kinetic + potential) at the start and the
+    end, and the change put down to each cause. ``residual`` is what no cause explains
+    (rounding); the causes are measured, phase by phase, not assumed."""
+
+    kinetic_start: float = 0.0
+    kinetic_end: float = 0.0
+    potential_start: float = 0.0
+    potential_end: float = 0.0
+    momentum_start: Vector3D = field(default_factory=lambda: Vector3D(0, 0, 0))
+    momentum_end: Vector3D = field(default_factory=lambda: Vector3D(0, 0, 0))
+    collisions: float = 0.0
+    integrator: float = 0.0
+    push_apart: float = 0.0
+    #: The loss predicted by theory for the collisions, sum of (1 - e^2)/2 * mu * v_n^2.
+    collisions_predicted: float = 0.0
+
+    @property
+    def energy_start(self) -> float:
+        return self.kinetic_start + self.potential_start
+
+    @property
+    def energy_end(self) -> float:
+        return self.kinetic_end + self.potential_end
+
+    @property
+    def residual(self) -> float:
+        return (self.energy_end - self.energy_start) - (self.collisions + self.integrator + self.push_apart)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kinetic_start": self.kinetic_start,
+            "kinetic_end": self.kinetic_end,
+            "potential_start": self.potential_start,
+            "potential_end": self.potential_end,
+            "energy_start": self.energy_start,
+            "energy_end": self.energy_end,
+            "momentum_start": _vec(self.momentum_start),
+            "momentum_end": _vec(self.momentum_end),
+            "change_by_cause": {
+                "collisions": self.collisions,
+                "integrator": self.integrator,
+                "push_apart": self.push_apart,
+                "residual": self.residual,
+            },
+            "collisions_predicted": self.collisions_predicted,
+        }
+
+
+@dataclass
+class RunRecord:
+    """Everything a run produced. ``frames`` holds every recorded step (see ``World.run``)."""
+
+    title: str
+    mode: str
+    dt: float
+    steps: int
+    restitution: float
+    gravity: Vector3D
+    dims: int = 3
+    frames: list[Frame] = field(default_factory=list)
+    events: list[CollisionEvent] = field(default_factory=list)
+    skipped: list[SkippedContact] = field(default_factory=list)
+    ledger: Ledger = field(default_factory=Ledger)
+    warnings: list[str] = field(default_factory=list)
+
+    def summary(self) -> dict[str, Any]:
+        return {
+            "collisions": len(self.events),
+            "steps": self.steps,
+            "time": self.frames[-1].time if self.frames else 0.0,
+            "momentum_start": _vec(self.ledger.momentum_start),
+            "momentum_end": _vec(self.ledger.momentum_end),
+            "kinetic_energy_start": self.ledger.kinetic_start,
+            "kinetic_energy_end": self.ledger.kinetic_end,
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: ``frames``, ``events``, ``summary``, ``ledger`` and more."""
+        return {
+            "title": self.title,
+            "dims": self.dims,
+            "settings": {
+                "mode": self.mode,
+                "dt": self.dt,
+                "steps": self.steps,
+                "restitution": self.restitution,
+                "gravity": _vec(self.gravity),
+            },
+            "frames": [
+                {
+                    "step": f.step,
+                    "time": f.time,
+                    "bodies": [
+                        {"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in f.bodies
+                    ],
+                }
+                for f in self.frames
+            ],
+            "events": [e.to_dict() for e in self.events],
+            "skipped": [s.to_dict() for s in self.skipped],
+            "summary": self.summary(),
+            "ledger": self.ledger.to_dict(),
+            "warnings": list(self.warnings),
+        }

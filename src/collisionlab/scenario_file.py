@@ -1,0 +1,242 @@
+"""Scenario files (TOML): read into a :class:`~collisionlab.model.Scenario`, and write back.
+
+Every problem is a :class:`ScenarioError` naming the file, the field (``body[0].radius``) and
+the expected form. Unknown keys are errors, never silently ignored. The format is documented
+in the README ("Scenario files").
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any, TypeVar
+
+from .errors import InvalidInputError
+from .model import Body, Obstacle, Scenario, Settings
+from .shapes import AABB, Circle, Line, Plane, Sphere
+from .validate import non_negative, positive
+from .vector import Vector3D, as_vector
+
+__all__ = ["ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
+
+T = TypeVar("T")
+
+_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title"}
+_BODY_KEYS = {"name", "shape", "position", "radius", "size", "velocity", "mass", "restitution"}
+_STATIC_KEYS = {"name", "shape", "point", "normal", "points", "direction", "position", "size", "restitution"}
+_BODY_SHAPES = ("circle", "sphere", "aabb")
+_STATIC_SHAPES = ("line", "plane", "aabb")
+
+
+class ScenarioError(InvalidInputError):
+    """A scenario that cannot be used; ``source`` is the file (or ``<menu>``)."""
+
+    def __init__(self, source: str, field: str, problem: str, got: object = None) -> None:
+        super().__init__(field, problem, got)
+        self.source = source
+        self.args = (f"{source}: {self.args[0]}",)
+
+
+def _check(source: str, call: Callable[[], T], field: str, names: Mapping[str, str] | None = None) -> T:
+    """Run a constructor or check, re-raising its error under the file and the file's field name:
+    ``names`` maps the library's field names (``center``) to the file's (``body[0].position``);
+    any other field is reported as ``field``."""
+    try:
+        return call()
+    except InvalidInputError as error:
+        if isinstance(error, ScenarioError):
+            raise
+        root = re.split(r"[.\[]", error.field, maxsplit=1)[0]
+        target = names[root] + error.field[len(root) :] if names and root in names else field
+        raise ScenarioError(source, target, error.problem, error.got) from None
+
+
+def _table(source: str, data: object, field: str, allowed: set[str]) -> Mapping[str, Any]:
+    if not isinstance(data, Mapping):
+        raise ScenarioError(source, field, "must be a table")
+    for key in data:
+        if key not in allowed:
+            raise ScenarioError(source, f"{field}.{key}", f"unknown key; expected one of {', '.join(sorted(allowed))}")
+    return data
+
+
+def _get(source: str, data: Mapping[str, Any], field: str, key: str, default: object = ...) -> Any:
+    if key in data:
+        return data[key]
+    if default is ...:
+        raise ScenarioError(source, f"{field}.{key}", "is missing")
+    return default
+
+
+def _name(source: str, data: Mapping[str, Any], field: str, fallback: str) -> str:
+    name = _get(source, data, field, "name", fallback)
+    if not isinstance(name, str) or not name.strip():
+        raise ScenarioError(source, f"{field}.name", "must be a non-empty string", got=name)
+    return name.strip()
+
+
+def _vector(source: str, data: Mapping[str, Any], field: str, key: str) -> Vector3D:
+    where = f"{field}.{key}"
+    return _check(source, lambda: as_vector(_get(source, data, field, key), where), where)
+
+
+def _number(source: str, data: Mapping[str, Any], field: str, key: str, check: Callable[[object, str], float]) -> float:
+    where = f"{field}.{key}"
+    return _check(source, lambda: check(_get(source, data, field, key), where), where)
+
+
+def _optional(source: str, data: Mapping[str, Any], field: str, key: str) -> float | None:
+    return None if key not in data else _number(source, data, field, key, non_negative)
+
+
+def _shape_kind(source: str, data: Mapping[str, Any], field: str, kinds: tuple[str, ...]) -> str:
+    kind = _get(source, data, field, "shape")
+    if kind not in kinds:
+        raise ScenarioError(source, f"{field}.shape", f"must be one of {' | '.join(kinds)}", got=kind)
+    return str(kind)
+
+
+def _box(source: str, data: Mapping[str, Any], field: str) -> AABB:
+    center = _get(source, data, field, "position")
+    size = _get(source, data, field, "size")
+    names = {"center": f"{field}.position", "size": f"{field}.size"}
+    return _check(source, lambda: AABB.from_center_size(center, size), f"{field}.size", names)
+
+
+def _body(source: str, data: object, index: int) -> Body:
+    field = f"body[{index}]"
+    table = _table(source, data, field, _BODY_KEYS)
+    kind = _shape_kind(source, table, field, _BODY_SHAPES)
+    name = _name(source, table, field, f"body{index + 1}")
+    shape: Circle | Sphere | AABB
+    if kind == "aabb":
+        shape = _box(source, table, field)
+    else:
+        position = _vector(source, table, field, "position")
+        radius = _number(source, table, field, "radius", positive)
+        maker = Circle if kind == "circle" else Sphere
+        shape = _check(source, lambda: maker(position, radius), f"{field}.position")
+    velocity = _vector(source, table, field, "velocity") if "velocity" in table else Vector3D(0, 0, 0)
+    mass = _number(source, table, field, "mass", positive) if "mass" in table else 1.0
+    restitution = _optional(source, table, field, "restitution")
+    return _check(source, lambda: Body(name, shape, velocity, mass, restitution), f"{field}.velocity")
+
+
+def _static(source: str, data: object, index: int) -> Obstacle:
+    field = f"static[{index}]"
+    table = _table(source, data, field, _STATIC_KEYS)
+    kind = _shape_kind(source, table, field, _STATIC_SHAPES)
+    name = _name(source, table, field, f"static{index + 1}")
+    shape: Line | Plane | AABB
+    if kind == "aabb":
+        shape = _box(source, table, field)
+    elif kind == "line":
+        point = _vector(source, table, field, "point")
+        direction = _vector(source, table, field, "direction")
+        shape = _check(source, lambda: Line(point, direction), f"{field}.direction")
+    elif "points" in table:
+        points = table["points"]
+        if not isinstance(points, list) or len(points) != 3:
+            raise ScenarioError(source, f"{field}.points", "must be a list of three points [[x, y, z], ...]")
+        corners = [_check(source, lambda p=p: as_vector(p, f"{field}.points"), f"{field}.points") for p in points]
+        shape = _check(source, lambda: Plane.from_points(*corners), f"{field}.points")
+    else:
+        point = _vector(source, table, field, "point")
+        normal = _vector(source, table, field, "normal")
+        shape = _check(source, lambda: Plane(point, normal), f"{field}.normal")
+    restitution = _optional(source, table, field, "restitution")
+    return Obstacle(name, shape, restitution)
+
+
+def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: str | None = None) -> Scenario:
+    """A :class:`Scenario` from parsed TOML data (a dict as ``tomllib`` gives)."""
+    _table(source, data, "scenario", {"simulation", "body", "static"})
+    sim = _table(source, data.get("simulation", {}), "simulation", _SIMULATION_KEYS)
+    given = {key: value for key, value in sim.items() if key != "title"}
+    names = {key: f"simulation.{key}" for key in _SIMULATION_KEYS}
+    settings = _check(source, lambda: Settings(**given), "simulation", names)
+    bodies_data = data.get("body", [])
+    statics_data = data.get("static", [])
+    for key, value in (("body", bodies_data), ("static", statics_data)):
+        if not isinstance(value, list):
+            raise ScenarioError(source, key, f"must be an array of tables, written [[{key}]]")
+    bodies = [_body(source, b, i) for i, b in enumerate(bodies_data)]
+    statics = [_static(source, s, i) for i, s in enumerate(statics_data)]
+    name = sim.get("title", title or Path(source).stem)
+    if not isinstance(name, str):
+        raise ScenarioError(source, "simulation.title", "must be a string", got=name)
+    return _check(source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name), "scenario")
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file."""
+    source = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except OSError as error:
+        raise ScenarioError(source, "file", f"cannot be read: {error.strerror or error}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise ScenarioError(source, "file", f"is not valid TOML: {error}") from None
+    return parse_scenario(data, source)
+
+
+# --- writing ------------------------------------------------------------------------------------
+def _fmt(value: float) -> str:
+    if math.isinf(value):
+        return "inf"
+    return repr(float(value))
+
+
+def _vec(vector: Vector3D, dim: int = 3) -> str:
+    return "[" + ", ".join(_fmt(c) for c in vector.as_tuple()[:dim]) + "]"
+
+
+def _str(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def scenario_to_toml(scenario: Scenario) -> str:
+    """The scenario as a TOML file that :func:`load_scenario` reads back to an equal scenario."""
+    s = scenario.settings
+    lines = [
+        "[simulation]",
+        f"title = {_str(scenario.title)}",
+        f"dt = {_fmt(s.dt)}",
+        f"steps = {s.steps}",
+        f"restitution = {_fmt(s.restitution)}",
+        f"gravity = {_vec(s.gravity)}",
+        f"mode = {_str(s.mode)}",
+    ]
+    for body in scenario.bodies:
+        shape = body.shape
+        lines += ["", "[[body]]", f"name = {_str(body.name)}"]
+        if isinstance(shape, AABB):
+            dim = shape.dim
+            lines += ['shape = "aabb"', f"position = {_vec(shape.center, dim)}"]
+            lines.append(f"size = {_vec(shape.max_corner - shape.min_corner, dim)}")
+        else:
+            kind = "circle" if isinstance(shape, Circle) else "sphere"
+            dim = 2 if kind == "circle" else 3
+            lines += [f'shape = "{kind}"', f"position = {_vec(shape.center, dim)}", f"radius = {_fmt(shape.radius)}"]
+        lines += [f"velocity = {_vec(body.velocity, dim)}", f"mass = {_fmt(body.mass)}"]
+        if body.restitution is not None:
+            lines.append(f"restitution = {_fmt(body.restitution)}")
+    for obstacle in scenario.obstacles:
+        shape_o = obstacle.shape
+        lines += ["", "[[static]]", f"name = {_str(obstacle.name)}"]
+        if isinstance(shape_o, AABB):
+            dim = shape_o.dim
+            lines += ['shape = "aabb"', f"position = {_vec(shape_o.center, dim)}"]
+            lines.append(f"size = {_vec(shape_o.max_corner - shape_o.min_corner, dim)}")
+        elif isinstance(shape_o, Line):
+            lines += ['shape = "line"', f"point = {_vec(shape_o.point, 2)}", f"direction = {_vec(shape_o.direction, 2)}"]
+        else:
+            lines += ['shape = "plane"', f"point = {_vec(shape_o.point)}", f"normal = {_vec(shape_o.normal)}"]
+        if obstacle.restitution is not None:
+            lines.append(f"restitution = {_fmt(obstacle.restitution)}")
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,404 @@
+"""The stateful simulation: a :class:`World` steps a :class:`~collisionlab.model.Scenario`.
+
+Each step, in this order (``mode = "euler"``, the lab's part VI):
+
+1. **Integrate** with Forward Euler: ``x += v dt`` then ``v += g dt``.
+2. **Detect** every pair (body-body ``i < j`` first, then obstacle-body) with the narrow phase.
+3. **Resolve** every contact whose bodies approach: against an obstacle lab eq. 24, between two
+   bodies the impulse along the line of action with masses
+   (:func:`~collisionlab.resolution.resolve_collision`). Approach slower than ``REST_SPEED``
+   gets e = 0.
+4. **Push apart** every overlapping pair, in inverse proportion to mass, to a gap of
+   ``CONTACT_SLOP``, so a resolved pair is not found again on the next step.
+
+With ``mode = "exact"`` nothing tunnels: within each step the world finds the earliest time of
+impact among all pairs (:func:`~collisionlab.toi.time_of_impact`; the motion is exact, a
+parabola under gravity), moves every body to that moment, resolves that impact and goes on
+with the rest of the step, as many impacts as happen; then it pushes apart as in phase 4.
+A body lying on a static obstacle (within ``CONTACT_MARGIN``, approach slower than
+``REST_SPEED``, gravity pressing it on) rests: its normal velocity and the normal part of its
+acceleration are removed, so it neither sinks nor jitters.
+
+A collision is reported once per impact: a pair that collided stays "in contact" until its
+distance grows beyond ``CONTACT_MARGIN``, and further impulses meanwhile are not new events.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from .contact import Separation
+from .model import Body, Obstacle, Scenario
+from .narrowphase import separation
+from .record import BodyState, CollisionEvent, Frame, Ledger, RunRecord, SkippedContact
+from .resolution import impulse_magnitude
+from .shapes import AABB, Circle, Shape, Sphere
+from .tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED
+from .toi import time_of_impact
+from .vector import Vector3D
+
+__all__ = ["MAX_IMPACTS_PER_STEP", "World", "simulate"]
+
+#: The most impacts the exact stepper resolves within one step before it finishes the step
+#: without them (and says so in the run's warnings); guards against an endless run of impacts.
+MAX_IMPACTS_PER_STEP = 10_000
+
+_ZERO = Vector3D(0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class _Pair:
+    """Indices of a pair: ``a`` is a body index, or an obstacle index when ``static``."""
+
+    a: int
+    b: int
+    static: bool
+
+
+def _thickness(shape: Shape) -> float:
+    """How far something must travel to pass through this shape (tunnelling check)."""
+    if isinstance(shape, (Circle, Sphere)):
+        return 2.0 * shape.radius
+    if isinstance(shape, AABB):
+        size = shape.max_corner - shape.min_corner
+        return min(size.as_tuple()[: shape.dim])
+    return 0.0
+
+
+class World:
+    """A running simulation. Build it from a scenario, then :meth:`step` or :meth:`run`."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.scenario = scenario
+        settings = scenario.settings
+        self.positions: list[Vector3D] = [b.position for b in scenario.bodies]
+        self.velocities: list[Vector3D] = [b.velocity for b in scenario.bodies]
+        self.step_index = 0
+        self.time = 0.0
+        body_index = {id(b): i for i, b in enumerate(scenario.bodies)}
+        obstacle_index = {id(o): i for i, o in enumerate(scenario.obstacles)}
+        self._pairs = [
+            _Pair(obstacle_index[id(a)], body_index[id(b)], True)
+            if isinstance(a, Obstacle)
+            else _Pair(body_index[id(a)], body_index[id(b)], False)
+            for a, b in scenario.pairs()
+        ]
+        self._touching: set[_Pair] = set()
+        self._tunnel_warned = False
+        self.record = RunRecord(
+            title=scenario.title,
+            mode=settings.mode,
+            dt=settings.dt,
+            steps=settings.steps,
+            restitution=settings.restitution,
+            gravity=settings.gravity,
+            dims=scenario.dims,
+        )
+        ledger = self.record.ledger
+        ledger.kinetic_start = ledger.kinetic_end = self.kinetic_energy()
+        ledger.potential_start = ledger.potential_end = self.potential_energy()
+        ledger.momentum_start = ledger.momentum_end = self.momentum()
+        warning = scenario.energy_warning()
+        if warning:
+            self.record.warnings.append(warning)
+
+    # --- state ---------------------------------------------------------------------------------
+    @property
+    def bodies(self) -> tuple[Body, ...]:
+        return self.scenario.bodies
+
+    def shape(self, index: int) -> Shape:
+        """Body ``index``'s shape at its current position."""
+        return self.scenario.bodies[index].shape.moved_to(self.positions[index])
+
+    def kinetic_energy(self) -> float:
+        return sum(0.5 * b.mass * v.length_squared() for b, v in zip(self.bodies, self.velocities, strict=True))
+
+    def potential_energy(self) -> float:
+        """``-sum m g.x``: zero at the origin."""
+        g = self.scenario.settings.gravity
+        return -sum(b.mass * g.dot(x) for b, x in zip(self.bodies, self.positions, strict=True))
+
+    def energy(self) -> float:
+        return self.kinetic_energy() + self.potential_energy()
+
+    def momentum(self) -> Vector3D:
+        total = _ZERO
+        for body, v in zip(self.bodies, self.velocities, strict=True):
+            total = total + v * body.mass
+        return total
+
+    def frame(self) -> Frame:
+        return Frame(
+            self.step_index,
+            self.time,
+            tuple(
+                BodyState(b.name, x, v) for b, x, v in zip(self.bodies, self.positions, self.velocities, strict=True)
+            ),
+        )
+
+    # --- pairs ---------------------------------------------------------------------------------
+    def _thing_a(self, pair: _Pair) -> Body | Obstacle:
+        return self.scenario.obstacles[pair.a] if pair.static else self.scenario.bodies[pair.a]
+
+    def _names(self, pair: _Pair) -> tuple[str, str]:
+        return (self._thing_a(pair).name, self.scenario.bodies[pair.b].name)
+
+    def _shape_a(self, pair: _Pair) -> Shape:
+        return self.scenario.obstacles[pair.a].shape if pair.static else self.shape(pair.a)
+
+    def _velocity_a(self, pair: _Pair) -> Vector3D:
+        return _ZERO if pair.static else self.velocities[pair.a]
+
+    def _separation(self, pair: _Pair) -> Separation:
+        return separation(self._shape_a(pair), self.shape(pair.b))
+
+    def _restitution(self, pair: _Pair) -> float:
+        """The pair's e: the larger of the two overrides if any (Box2D mixes by max), else the default."""
+        overrides = [t.restitution for t in (self._thing_a(pair), self.scenario.bodies[pair.b])]
+        given = [e for e in overrides if e is not None]
+        return max(given) if given else self.scenario.settings.restitution
+
+    def _forget_separated(self, pairs: list[_Pair] | None = None) -> None:
+        for pair in list(self._touching) if pairs is None else pairs:
+            if pair in self._touching and self._separation(pair).distance > CONTACT_MARGIN:
+                self._touching.discard(pair)
+
+    # --- resolution ----------------------------------------------------------------------------
+    def _resolve(self, pair: _Pair, normal: Vector3D, point: Vector3D, time: float) -> bool:
+        """Apply the impulse along ``normal`` (from A to B) if the pair approaches; record it.
+        Returns whether an impulse was applied."""
+        body_b = self.scenario.bodies[pair.b]
+        va, vb = self._velocity_a(pair), self.velocities[pair.b]
+        vn = (vb - va).dot(normal)
+        if vn >= 0.0:
+            if pair not in self._touching:
+                self.record.skipped.append(SkippedContact(self.step_index, time, self._names(pair), "separating"))
+            return False
+        inverse_a = 0.0 if pair.static else 1.0 / self.scenario.bodies[pair.a].mass
+        inverse_b = 1.0 / body_b.mass
+        below = -vn < REST_SPEED
+        e = 0.0 if below else self._restitution(pair)
+        j = impulse_magnitude(vn, inverse_a + inverse_b, e)
+        ke_before = self._pair_kinetic(pair)
+        va_after = va - normal * (j * inverse_a)
+        vb_after = vb + normal * (j * inverse_b)
+        if not pair.static:
+            self.velocities[pair.a] = va_after
+        self.velocities[pair.b] = vb_after
+        ke_after = self._pair_kinetic(pair)
+        ledger = self.record.ledger
+        ledger.collisions += ke_after - ke_before
+        ledger.collisions_predicted -= 0.5 * (1.0 - e * e) * vn * vn / (inverse_a + inverse_b)
+        if pair not in self._touching:
+            name_a, name_b = self._names(pair)
+            before = {name_b: vb} if pair.static else {name_a: va, name_b: vb}
+            after = {name_b: vb_after} if pair.static else {name_a: va_after, name_b: vb_after}
+            mass_a = float("inf") if pair.static else self.scenario.bodies[pair.a].mass
+            self.record.events.append(
+                CollisionEvent(
+                    step=self.step_index,
+                    time=time,
+                    bodies=(name_a, name_b),
+                    static=pair.static,
+                    normal=normal,
+                    point=point,
+                    approach_speed=vn,
+                    impulse=j,
+                    restitution=e,
+                    masses=(mass_a, body_b.mass),
+                    velocities_before=before,
+                    velocities_after=after,
+                    kinetic_energy_before=ke_before,
+                    kinetic_energy_after=ke_after,
+                    below_rest_threshold=below,
+                )
+            )
+            self._touching.add(pair)
+        return True
+
+    def _pair_kinetic(self, pair: _Pair) -> float:
+        indices = (pair.b,) if pair.static else (pair.a, pair.b)
+        return sum(0.5 * self.bodies[i].mass * self.velocities[i].length_squared() for i in indices)
+
+    def _push_apart(self) -> None:
+        """Phase 4: every overlapping pair is moved apart to a gap of ``CONTACT_SLOP``."""
+        energy_before = self.energy()
+        for pair in self._pairs:
+            sep = self._separation(pair)
+            if sep.distance > 0.0:
+                continue
+            push = CONTACT_SLOP - sep.distance
+            inverse_a = 0.0 if pair.static else 1.0 / self.bodies[pair.a].mass
+            inverse_b = 1.0 / self.bodies[pair.b].mass
+            total = inverse_a + inverse_b
+            if not pair.static:
+                self.positions[pair.a] = self.positions[pair.a] - sep.normal * (push * inverse_a / total)
+            self.positions[pair.b] = self.positions[pair.b] + sep.normal * (push * inverse_b / total)
+        self.record.ledger.push_apart += self.energy() - energy_before
+
+    # --- stepping ------------------------------------------------------------------------------
+    def step(self) -> None:
+        """Advance one step of ``dt`` in the scenario's mode."""
+        if self.scenario.settings.mode == "exact":
+            self._step_exact()
+        else:
+            self._step_euler()
+        self._push_apart()
+        ledger = self.record.ledger
+        ledger.kinetic_end = self.kinetic_energy()
+        ledger.potential_end = self.potential_energy()
+        ledger.momentum_end = self.momentum()
+
+    def _step_euler(self) -> None:
+        settings = self.scenario.settings
+        dt, g = settings.dt, settings.gravity
+        self._check_tunnelling(dt)
+        energy_before = self.energy()
+        # Phase 1: Forward Euler, position from the old velocity (the lab's integrator).
+        self.positions = [x + v * dt for x, v in zip(self.positions, self.velocities, strict=True)]
+        self.velocities = [v + g * dt for v in self.velocities]
+        self.record.ledger.integrator += self.energy() - energy_before
+        self.step_index += 1
+        self.time = self.step_index * dt
+        # Phase 2: detect; phase 3: resolve, in the fixed pair order.
+        separations = [(pair, self._separation(pair)) for pair in self._pairs]
+        for pair, sep in separations:
+            if pair in self._touching and sep.distance > CONTACT_MARGIN:
+                self._touching.discard(pair)
+        for pair, sep in separations:
+            if sep.distance <= 0.0:
+                self._resolve(pair, sep.normal, sep.point, self.time)
+
+    def _check_tunnelling(self, dt: float) -> None:
+        if self._tunnel_warned:
+            return
+        for pair in self._pairs:
+            relative = (self.velocities[pair.b] - self._velocity_a(pair)).length() * dt
+            limit = _thickness(self._shape_a(pair)) + _thickness(self.shape(pair.b))
+            if relative > limit:
+                name_a, name_b = self._names(pair)
+                self.record.warnings.append(
+                    f"'{name_b}' moves {relative:.3g} m relative to '{name_a}' in one step, more than the "
+                    f"{limit:.3g} m it takes to pass through: collisions can be missed (tunnelling); "
+                    "use --mode exact"
+                )
+                self._tunnel_warned = True
+                return
+
+    def _step_exact(self) -> None:
+        settings = self.scenario.settings
+        start = self.step_index * settings.dt
+        remaining = settings.dt
+        elapsed = 0.0
+        ignored: set[_Pair] = set()
+        impacts = 0
+        while True:
+            self._forget_separated()
+            accelerations, resting = self._rest_on_obstacles(start + elapsed)
+            best: tuple[_Pair, float, Vector3D] | None = None
+            for pair in self._pairs:
+                if pair in ignored or pair in resting:
+                    continue
+                impact = time_of_impact(
+                    self._shape_a(pair),
+                    self.shape(pair.b),
+                    self._velocity_a(pair),
+                    self.velocities[pair.b],
+                    remaining,
+                    _ZERO if pair.static else accelerations[pair.a],
+                    accelerations[pair.b],
+                )
+                if impact is not None and (best is None or impact.time < best[1]):
+                    best = (pair, impact.time, impact.normal)
+            if best is None or impacts >= MAX_IMPACTS_PER_STEP:
+                if best is not None:
+                    self.record.warnings.append(
+                        f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index + 1}: "
+                        "the rest of that step was integrated without them"
+                    )
+                self._advance(remaining, accelerations)
+                break
+            pair, time, normal = best
+            self._advance(time, accelerations)
+            elapsed += time
+            remaining -= time
+            if self._resolve(pair, normal, self._separation(pair).point, start + elapsed):
+                impacts += 1
+                ignored.clear()
+            else:
+                ignored.add(pair)
+        self.step_index += 1
+        self.time = self.step_index * settings.dt
+
+    def _advance(self, duration: float, accelerations: list[Vector3D]) -> None:
+        """Exact motion under constant acceleration: ``x += v t + a t^2/2``, ``v += a t``."""
+        if duration <= 0.0:
+            return
+        energy_before = self.energy()
+        half_t2 = 0.5 * duration * duration
+        self.positions = [
+            x + v * duration + a * half_t2
+            for x, v, a in zip(self.positions, self.velocities, accelerations, strict=True)
+        ]
+        self.velocities = [v + a * duration for v, a in zip(self.velocities, accelerations, strict=True)]
+        self.record.ledger.integrator += self.energy() - energy_before
+
+    def _rest_on_obstacles(self, time: float) -> tuple[list[Vector3D], set[_Pair]]:
+        """Bodies lying on a static obstacle, pressed on by gravity and moving along the normal
+        slower than ``REST_SPEED``: their normal velocity is removed (an e = 0 impulse) and the
+        normal part of their acceleration is cancelled by the support."""
+        gravity = self.scenario.settings.gravity
+        accelerations = [gravity] * len(self.bodies)
+        resting: set[_Pair] = set()
+        if gravity == _ZERO:
+            return accelerations, resting
+        for pair in self._pairs:
+            if not pair.static:
+                continue
+            sep = self._separation(pair)
+            n = sep.normal  # from the obstacle to the body
+            a = accelerations[pair.b]
+            v = self.velocities[pair.b]
+            if sep.distance > CONTACT_MARGIN or a.dot(n) >= 0.0 or abs(v.dot(n)) > REST_SPEED:
+                continue
+            if v.dot(n) < 0.0:
+                self._resolve(pair, n, sep.point, time)
+            elif v.dot(n) > 0.0:
+                ke_before = self._pair_kinetic(pair)
+                self.velocities[pair.b] = v - n * v.dot(n)
+                self.record.ledger.collisions += self._pair_kinetic(pair) - ke_before
+            accelerations[pair.b] = a - n * a.dot(n)
+            resting.add(pair)
+        return accelerations, resting
+
+    # --- running -------------------------------------------------------------------------------
+    def run(self, every: int = 1, progress: Callable[[int, int], None] | None = None) -> RunRecord:
+        """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
+        ``progress(done, total)`` is called after each step."""
+        total = self.scenario.settings.steps
+        if not self.record.frames:
+            self.record.frames.append(self.frame())
+        while self.step_index < total:
+            self.step()
+            if self.step_index % every == 0 or self.step_index == total:
+                self.record.frames.append(self.frame())
+            if progress is not None:
+                progress(self.step_index, total)
+        return self.record
+
+
+def simulate(scenario: Scenario, every: int = 1) -> RunRecord:
+    """Run ``scenario`` from the start and return its record.
+
+    >>> from collisionlab import Sphere, Plane
+    >>> from collisionlab.model import Body, Obstacle, Settings, Scenario
+    >>> ball = Body("ball", Sphere((0, 1, 0), 0.5), velocity=(0, -1, 0))
+    >>> floor = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
+    >>> record = simulate(Scenario(Settings(dt=0.1, steps=10, restitution=0.5), (ball,), (floor,)))
+    >>> event = record.events[0]   # y = 1 - 0.1 k <= 0.5 first at k = 5
+    >>> event.step, event.velocities_after["ball"]   # -1 -> +0.5 (lab eq. 24, e = 0.5)
+    (5, {'ball': Vector3D(x=0.0, y=0.5, z=0.0)})
+    """
+    return World(scenario).run(every=every)
