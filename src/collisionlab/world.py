@@ -8,7 +8,7 @@ Each step, in this order (``mode = "euler"``, the lab's part VI):
    bodies the impulse along the line of action with masses
    (:func:`~collisionlab.resolution.resolve_collision`). Approach slower than ``REST_SPEED``
    gets e = 0.
-4. **Push apart** every overlapping pair, in inverse proportion to mass, to a gap of
+4. **Push apart** every overlapping pair (distance < 0), in inverse proportion to mass, to a gap of
    ``CONTACT_SLOP``, so a resolved pair is not found again on the next step.
 
 With ``mode = "exact"`` nothing tunnels: within each step the world finds the earliest time of
@@ -227,7 +227,7 @@ class World:
         energy_before = self.energy()
         for pair in self._pairs:
             sep = self._separation(pair)
-            if sep.distance > 0.0:
+            if sep.distance >= 0.0:  # touching is not overlapping: nothing to undo
                 continue
             push = CONTACT_SLOP - sep.distance
             inverse_a = 0.0 if pair.static else 1.0 / self.bodies[pair.a].mass
@@ -290,6 +290,7 @@ class World:
     def _step_exact(self) -> None:
         settings = self.scenario.settings
         start = self.step_index * settings.dt
+        self.step_index += 1  # events of this step carry its number, as in euler mode
         remaining = settings.dt
         elapsed = 0.0
         ignored: set[_Pair] = set()
@@ -315,7 +316,7 @@ class World:
             if best is None or impacts >= MAX_IMPACTS_PER_STEP:
                 if best is not None:
                     self.record.warnings.append(
-                        f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index + 1}: "
+                        f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index}: "
                         "the rest of that step was integrated without them"
                     )
                 self._advance(remaining, accelerations)
@@ -329,7 +330,6 @@ class World:
                 ignored.clear()
             else:
                 ignored.add(pair)
-        self.step_index += 1
         self.time = self.step_index * settings.dt
 
     def _advance(self, duration: float, accelerations: list[Vector3D]) -> None:

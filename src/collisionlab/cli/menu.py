@@ -40,8 +40,8 @@ class Question:
 def _numbers(text: str, count: int, field: str) -> list[float]:
     parts = text.replace(",", " ").split()
     if len(parts) != count:
-        form = " ".join("xyz"[:count])
-        raise InvalidInputError(field, f"expected {count} numbers like '{form}', got {len(parts)}")
+        expected = "one number" if count == 1 else f"{count} numbers like '{' '.join('xyz'[:count])}'"
+        raise InvalidInputError(field, f"expected {expected}, got {len(parts)} values")
     values = []
     for part in parts:
         try:
