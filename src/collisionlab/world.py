@@ -35,7 +35,7 @@ from .record import BodyState, CollisionEvent, Frame, Ledger, RunRecord, Skipped
 from .resolution import impulse_magnitude
 from .shapes import AABB, Circle, Shape, Sphere
 from .tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED
-from .toi import time_of_impact
+from .toi import Impact, time_of_impact
 from .vector import Vector3D
 
 __all__ = ["MAX_IMPACTS_PER_STEP", "World", "simulate"]
@@ -166,9 +166,11 @@ class World:
                 self._touching.discard(pair)
 
     # --- resolution ----------------------------------------------------------------------------
-    def _resolve(self, pair: _Pair, normal: Vector3D, point: Vector3D, time: float) -> bool:
-        """Apply the impulse along ``normal`` (from A to B) if the pair approaches; record it.
-        Returns whether an impulse was applied."""
+    def _resolve(self, pair: _Pair, normal: Vector3D, point: Vector3D, time: float, fresh: bool = False) -> bool:
+        """Apply the impulse along ``normal`` (from A to B) if the pair approaches; record it as
+        an event if the pair was not already in contact, or if it arrives from a flight found by
+        time of impact (``fresh``) faster than ``REST_SPEED``. Returns whether an impulse was
+        applied."""
         body_b = self.scenario.bodies[pair.b]
         va, vb = self._velocity_a(pair), self.velocities[pair.b]
         vn = (vb - va).dot(normal)
@@ -191,7 +193,7 @@ class World:
         ledger = self.record.ledger
         ledger.collisions += ke_after - ke_before
         ledger.collisions_predicted -= 0.5 * (1.0 - e * e) * vn * vn / (inverse_a + inverse_b)
-        if pair not in self._touching:
+        if pair not in self._touching or (fresh and not below):
             name_a, name_b = self._names(pair)
             before = {name_b: vb} if pair.static else {name_a: va, name_b: vb}
             after = {name_b: vb_after} if pair.static else {name_a: va_after, name_b: vb_after}
@@ -298,7 +300,7 @@ class World:
         while True:
             self._forget_separated()
             accelerations, resting = self._rest_on_obstacles(start + elapsed)
-            best: tuple[_Pair, float, Vector3D] | None = None
+            best: tuple[_Pair, Impact] | None = None
             for pair in self._pairs:
                 if pair in ignored or pair in resting:
                     continue
@@ -311,8 +313,8 @@ class World:
                     _ZERO if pair.static else accelerations[pair.a],
                     accelerations[pair.b],
                 )
-                if impact is not None and (best is None or impact.time < best[1]):
-                    best = (pair, impact.time, impact.normal)
+                if impact is not None and (best is None or impact.time < best[1].time):
+                    best = (pair, impact)
             if best is None or impacts >= MAX_IMPACTS_PER_STEP:
                 if best is not None:
                     self.record.warnings.append(
@@ -321,11 +323,12 @@ class World:
                     )
                 self._advance(remaining, accelerations)
                 break
-            pair, time, normal = best
-            self._advance(time, accelerations)
-            elapsed += time
-            remaining -= time
-            if self._resolve(pair, normal, self._separation(pair).point, start + elapsed):
+            pair, impact = best
+            self._advance(impact.time, accelerations)
+            elapsed += impact.time
+            remaining -= impact.time
+            fresh = impact.time > 0.0 and not impact.initially_overlapping
+            if self._resolve(pair, impact.normal, self._separation(pair).point, start + elapsed, fresh):
                 impacts += 1
                 ignored.clear()
             else:

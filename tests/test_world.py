@@ -1,0 +1,241 @@
+"""The stateful world: the step order, events once per impact, exact mode never tunnels,
+resting contact, and the conservation ledger (issues 3 and 4)."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from collisionlab import AABB, Circle, Line, Plane, Sphere, Vector3D
+from collisionlab.model import Body, Obstacle, Scenario, Settings
+from collisionlab.tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED
+from collisionlab.world import World, simulate
+
+FLOOR = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
+
+
+def _scenario(bodies, obstacles=(), **kw) -> Scenario:
+    return Scenario(Settings(**kw), tuple(bodies), tuple(obstacles))
+
+
+# --- euler mode (the lab's) -------------------------------------------------------------------
+def test_euler_sphere_plane_golden():
+    # y_k = 3.01 - 0.02 k <= 0.5 first at k = 126 (125.5 rounds up); lab eq. 24 with n = (0, 1, 0),
+    # e = 0.8: v_y = -2 - 1.8 * (-2) = 1.6, tangential (1, _, 0.5) unchanged.
+    ball = Body("ball", Sphere((0, 3.01, 0), 0.5), velocity=(1, -2, 0.5))
+    record = simulate(_scenario([ball], [FLOOR], dt=0.01, steps=200, restitution=0.8))
+    assert [e.step for e in record.events] == [126]
+    after = record.events[0].velocities_after["ball"]
+    assert after.as_tuple() == pytest.approx((1.0, 1.6, 0.5), abs=1e-12)
+    # Pushed out: after the step, the sphere sits on the plane (gap CONTACT_SLOP), not inside it.
+    frame = record.frames[126]
+    assert frame.bodies[0].position.y - 0.5 == pytest.approx(CONTACT_SLOP, abs=1e-12)
+
+
+def test_euler_reports_each_impact_once_even_when_e_is_zero():
+    # e = 0: the pair moves on together, touching; that is one impact, not one per step.
+    a = Body("a", Circle((0, 0), 0.5), velocity=(1, 0))
+    b = Body("b", Circle((3, 0), 0.5), velocity=(-1, 0))
+    record = simulate(_scenario([a, b], dt=0.01, steps=300, restitution=0.0))
+    assert len(record.events) == 1
+    va = record.frames[-1].bodies[0].velocity
+    assert va.as_tuple() == pytest.approx((0.0, 0.0, 0.0), abs=1e-12)
+
+
+def test_euler_integrator_energy_gain_matches_forward_euler_theory():
+    # Forward Euler under gravity gains g^2 dt t / 2 per unit mass (x from the old velocity):
+    # 9.81^2 * 0.01 * 1.0 / 2 = 0.4811805 J for m = 1 over 100 steps.
+    ball = Body("ball", Sphere((0, 100, 0), 0.5), velocity=(0, 0, 0))
+    record = simulate(_scenario([ball], dt=0.01, steps=100, gravity=(0, -9.81, 0)))
+    assert record.ledger.integrator == pytest.approx(9.81**2 * 0.01 * 1.0 / 2, rel=1e-9)
+    assert record.ledger.residual == pytest.approx(0.0, abs=1e-9)
+
+
+def test_euler_warns_once_about_tunnelling_and_misses_the_wall():
+    # 100 m/s * 0.01 s = 1 m per step against a ball 0.2 m across and a plane: it can jump over.
+    ball = Body("ball", Sphere((0, 0.55, 0), 0.1), velocity=(0, -100, 0))
+    record = simulate(_scenario([ball], [FLOOR], dt=0.01, steps=5))
+    tunnel = [w for w in record.warnings if "tunnelling" in w]
+    assert len(tunnel) == 1 and "--mode exact" in tunnel[0]
+    assert record.events == []  # the lab's discrete check misses it: the reason for exact mode
+    assert record.frames[-1].bodies[0].position.y < 0
+
+
+# --- exact mode: nothing tunnels --------------------------------------------------------------
+SPEEDS = [1.0, 1e2, 1e4, 1e6]  # radius lengths per step
+
+
+@pytest.mark.parametrize("speed", SPEEDS)
+@pytest.mark.parametrize("target", ["plane", "line", "box", "sphere"])
+def test_exact_mode_never_tunnels(target, speed):
+    # A body of radius 1 moving `speed` radii per step (dt = 1) toward a target 10 away.
+    if target == "line":
+        body = Body("b", Circle((0, 10), 1), velocity=(0, -speed))
+        obstacles = [Obstacle("t", Line((0, 0), (1, 0)))]
+    elif target == "plane":
+        body = Body("b", Sphere((0, 10, 0), 1), velocity=(0, -speed, 0))
+        obstacles = [Obstacle("t", Plane((0, 0, 0), (0, 1, 0)))]
+    elif target == "box":
+        body = Body("b", Sphere((0, 10, 0), 1), velocity=(0, -speed, 0))
+        obstacles = [Obstacle("t", AABB((-1, -0.01, -1), (1, 0, 1)))]  # 1 cm thin
+    else:
+        body = Body("b", Sphere((0, 10, 0), 1), velocity=(0, -speed, 0))
+        obstacles = []
+    bodies = [body]
+    if target == "sphere":
+        bodies.append(Body("t", Sphere((0, 0, 0), 0.01), velocity=(0, 0, 0), mass=1e12))
+    steps = max(3, math.ceil(12 / speed))
+    record = simulate(_scenario(bodies, obstacles, dt=1.0, steps=steps, restitution=1.0, mode="exact"))
+    assert len(record.events) == 1
+    for frame in record.frames:
+        assert frame.bodies[0].position.y >= 0.0, "the body was found beyond its target"
+
+
+def test_exact_rebound_is_the_same_wherever_the_impact_falls_in_the_step():
+    # 200 start heights put the impact at 200 places inside step 1; the velocity after is
+    # always lab eq. 24's (0, +0.5 * 3) and the height after the step is exact too.
+    results = set()
+    for k in range(200):
+        y0 = 0.5 + 3.0 * (k + 0.5) / 200  # impact time (y0 - 0.5)/3 inside (0, 1)
+        ball = Body("ball", Sphere((0, y0, 0), 0.5), velocity=(0, -3, 0))
+        record = simulate(_scenario([ball], [FLOOR], dt=1.0, steps=1, restitution=0.5, mode="exact"))
+        (event,) = record.events
+        assert event.time == pytest.approx((y0 - 0.5) / 3.0, abs=1e-12)
+        results.add(record.frames[-1].bodies[0].velocity.as_tuple())
+        # after impact at t_i it rises at 1.5 for 1 - t_i
+        assert record.frames[-1].bodies[0].position.y == pytest.approx(0.5 + 1.5 * (1 - event.time), abs=1e-9)
+    assert results == {(0.0, 1.5, 0.0)}
+
+
+def test_exact_elastic_bounces_keep_energy_over_ten_thousand_collisions():
+    # Ball between two planes 1 m apart at 1000 m/s, dt = 0.01: 10 m a step, ~13 collisions a step.
+    ball = Body("ball", Sphere((0, 0.5, 0), 0.1), velocity=(0, 1000, 0))
+    walls = [Obstacle("floor", Plane((0, 0, 0), (0, 1, 0))), Obstacle("ceiling", Plane((0, 1, 0), (0, -1, 0)))]
+    scenario = _scenario([ball], walls, dt=0.01, steps=800, restitution=1.0, mode="exact")
+    world = World(scenario)
+    record = world.run(every=100)
+    assert len(record.events) >= 10_000
+    assert abs(record.ledger.kinetic_end / record.ledger.kinetic_start - 1.0) < 1e-9
+    assert all(0.1 - 1e-9 <= f.bodies[0].position.y <= 0.9 + 1e-9 for f in record.frames)
+
+
+def test_exact_balls_in_a_box_keep_energy():
+    walls = [
+        Obstacle("left", Line((-3, 0), (0, 1))),
+        Obstacle("right", Line((3, 0), (0, 1))),
+        Obstacle("bottom", Line((0, -3), (1, 0))),
+        Obstacle("top", Line((0, 3), (1, 0))),
+    ]
+    balls = [
+        Body("a", Circle((-1.5, 0.2), 0.5), velocity=(7, 3), mass=1.0),
+        Body("b", Circle((1.0, -0.3), 0.4), velocity=(-5, 4), mass=2.0),
+        Body("c", Circle((0.0, 1.8), 0.3), velocity=(2, -9), mass=0.5),
+    ]
+    record = simulate(_scenario(balls, walls, dt=0.01, steps=1000, restitution=1.0, mode="exact"))
+    assert len(record.events) > 50
+    assert abs(record.ledger.kinetic_end / record.ledger.kinetic_start - 1.0) < 1e-9
+    for frame in record.frames:
+        for state, body in zip(frame.bodies, balls, strict=True):
+            r = body.shape.radius
+            assert -3 + r - 1e-9 <= state.position.x <= 3 - r + 1e-9
+            assert -3 + r - 1e-9 <= state.position.y <= 3 - r + 1e-9
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    m_a=st.floats(0.1, 100),
+    m_b=st.floats(0.1, 100),
+    vx=st.floats(0.5, 50),
+    offset=st.floats(-0.9, 0.9),
+    e=st.floats(0, 1),
+    mode=st.sampled_from(["euler", "exact"]),
+)
+def test_free_two_body_collisions_conserve_momentum(m_a, m_b, vx, offset, e, mode):
+    a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(vx, 0, 0), mass=m_a)
+    b = Body("b", Sphere((3, offset, 0.1), 0.5), velocity=(-1, 0, 0), mass=m_b)
+    dt = 0.001 if mode == "euler" else 0.01
+    record = simulate(_scenario([a, b], dt=dt, steps=int(round(4 / dt / (vx + 1))) + 50, restitution=e, mode=mode))
+    assert len(record.events) == 1
+    p0, p1 = record.ledger.momentum_start, record.ledger.momentum_end
+    assert (p1 - p0).length() <= 1e-12 * p0.length() + 1e-15
+    # the ledger attributes the energy change to the collision, as theory predicts
+    assert record.ledger.collisions == pytest.approx(record.ledger.collisions_predicted, rel=1e-9, abs=1e-12)
+
+
+def test_exact_grazing_impact_is_one_event():
+    # Moving along x at y = 1 with radii summing to 1: the spheres touch at exactly one instant.
+    a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(1, 0, 0))
+    b = Body("b", Sphere((3, 1, 0), 0.5), velocity=(0, 0, 0))
+    record = simulate(_scenario([a, b], dt=0.01, steps=500, mode="exact"))
+    assert len(record.events) <= 1
+    # a graze has no approach along the normal, so at most one (zero-impulse) contact is seen
+    for event in record.events:
+        assert abs(event.approach_speed) < 1e-6
+
+
+def test_exact_e_zero_is_one_event():
+    a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(1, 0, 0))
+    b = Body("b", Sphere((3, 0, 0), 0.5), velocity=(-1, 0, 0))
+    record = simulate(_scenario([a, b], dt=0.01, steps=300, restitution=0.0, mode="exact"))
+    assert len(record.events) == 1
+    assert record.events[0].time == pytest.approx(1.0, abs=1e-12)  # gap 2 closing at 2
+
+
+# --- exact mode under gravity: bounces follow e^2, then rest -----------------------------------
+def test_exact_bounce_heights_follow_e_squared_then_rest():
+    g, e, r, h0 = 9.81, 0.8, 0.25, 2.0
+    ball = Body("ball", Sphere((0, h0, 0), r), velocity=(0, 0, 0))
+    scenario = _scenario([ball], [FLOOR], dt=0.01, steps=800, restitution=e, gravity=(0, -g, 0), mode="exact")
+    record = World(scenario).run()
+    ups = [ev.velocities_after["ball"].y for ev in record.events]
+    # first impact: dropped from h0 - r = 1.75 m: v = sqrt(2 g 1.75) at t = sqrt(2 * 1.75 / g)
+    assert record.events[0].time == pytest.approx(math.sqrt(2 * (h0 - r) / g), rel=1e-12)
+    assert ups[0] == pytest.approx(e * math.sqrt(2 * g * (h0 - r)), rel=1e-12)
+    heights = [u * u / (2 * g) for u in ups if u > REST_SPEED]
+    for first, second in zip(heights, heights[1:], strict=False):
+        assert second / first == pytest.approx(e * e, rel=1e-9)
+    # time between bounces is the flight time 2u/g of the parabola: exact, not stepped
+    for ev1, ev2 in zip(record.events[:5], record.events[1:6], strict=False):
+        assert ev2.time - ev1.time == pytest.approx(2 * ev1.velocities_after["ball"].y / g, rel=1e-9)
+    # at rest on the floor at the end: no sinking, no jitter
+    final = record.frames[-1].bodies[0]
+    assert abs(final.velocity.y) <= REST_SPEED
+    assert 0.0 <= final.position.y - r <= CONTACT_MARGIN
+    resting_heights = [f.bodies[0].position.y for f in record.frames[-100:]]
+    assert max(resting_heights) - min(resting_heights) <= CONTACT_SLOP
+    # penetration never exceeds CONTACT_SLOP at any recorded frame
+    assert min(f.bodies[0].position.y - r for f in record.frames) >= -CONTACT_SLOP
+
+
+def test_exact_ledger_explains_the_energy():
+    ball = Body("ball", Sphere((0, 2, 0), 0.25), velocity=(0.5, 0, 0))
+    scenario = _scenario([ball], [FLOOR], dt=0.01, steps=300, restitution=0.8, gravity=(0, -9.81, 0), mode="exact")
+    ledger = simulate(scenario).ledger
+    assert ledger.collisions < 0
+    assert ledger.collisions == pytest.approx(ledger.collisions_predicted, rel=1e-6)
+    assert abs(ledger.integrator) < 1e-9  # exact parabola: no integrator energy
+    assert abs(ledger.residual) < 1e-9
+
+
+def test_world_rejects_a_pair_with_no_query():
+    with pytest.raises(ValueError, match="cannot collide"):
+        _scenario([Body("c", Circle((0, 0), 1), velocity=(0, 0))], [FLOOR])
+
+
+def test_restitution_above_one_warns_and_adds_energy():
+    ball = Body("ball", Sphere((0, 1.01, 0), 0.5), velocity=(0, -1, 0))
+    record = simulate(_scenario([ball], [FLOOR], dt=0.01, steps=100, restitution=1.5))
+    assert any("adds kinetic energy" in w for w in record.warnings)
+    assert record.ledger.kinetic_end == pytest.approx(record.ledger.kinetic_start * 1.5**2)
+
+
+def test_momentum_and_frames_shape():
+    a = Body("a", Circle((0, 0), 0.5), velocity=(1, 0))
+    record = World(_scenario([a], dt=0.1, steps=10)).run(every=3)
+    assert [f.step for f in record.frames] == [0, 3, 6, 9, 10]
+    assert record.frames[-1].bodies[0].position == Vector3D(1.0, 0.0, 0.0) or record.frames[-1].bodies[
+        0
+    ].position.x == pytest.approx(1.0)
