@@ -35,7 +35,7 @@ class _Parser(argparse.ArgumentParser):
     streams: Streams
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        raise UsageError(f"{self.prog}: {message}")
+        raise UsageError(f"{self.format_usage().rstrip()}\n{self.prog}: error: {message}")
 
     def _print_message(self, message: str, file: object = None) -> None:
         if message:
@@ -76,18 +76,17 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
         if not args_list:
             if streams.interactive:
                 return run_menu(streams)
-            parser.print_usage()
+            streams.err(parser.format_usage().rstrip())
             streams.err("collisionlab: no command given and standard input is not a terminal; "
                         "use 'collisionlab menu' to answer the menu from a pipe, or 'collisionlab demo'")
             return EXIT_USAGE
         args = parser.parse_args(args_list)
         if args.command is None:
-            parser.print_usage()
+            streams.err(parser.format_usage().rstrip())
             return EXIT_USAGE
         status: int = args.func(args, streams)
         return status
     except UsageError as error:
-        parser.print_usage()
         streams.err(str(error))
         return EXIT_USAGE
     except SystemExit as stop:  # --help and argparse's own exits

@@ -40,11 +40,23 @@ def positive_int(text: str) -> int:
     return value
 
 
+def non_negative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
+    if not math.isfinite(value) or value < 0.0:
+        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
+    return value
+
+
 def _add_common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--steps", type=positive_int, help="number of steps (overrides the scenario)")
     parser.add_argument("--dt", type=positive_float, help="time step in seconds (overrides the scenario)")
     parser.add_argument("--mode", choices=("euler", "exact"), help="stepping: the lab's Forward Euler, or exact "
                         "time of impact (nothing tunnels); overrides the scenario")
+    parser.add_argument("--restitution", type=non_negative_float, metavar="E",
+                        help="default coefficient of restitution (overrides the scenario; > 1 adds energy)")
     parser.add_argument("--every", type=positive_int, default=1, metavar="K", help="print every K-th step")
     parser.add_argument("--format", choices=("table", "csv", "json"), default="table", help="output format")
     parser.add_argument("--output", metavar="FILE", help="write the output to FILE (atomically) instead of stdout")
@@ -110,7 +122,7 @@ def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, s
 
 def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Streams) -> int:
     """Apply the flags to each scenario, run it, and print or write the output."""
-    overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode") if getattr(args, k) is not None}
+    overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
     texts: list[str] = []
     records: list[RunRecord] = []
     for scenario in scenarios:
