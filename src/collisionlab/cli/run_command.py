@@ -90,8 +90,7 @@ def _run_file(args: argparse.Namespace, streams: Streams) -> int:
 def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
     if args.list:
         for name in demo_names():
-            lab = f"  (lab case {LAB_DEMOS.index(name) + 1})" if name in LAB_DEMOS else ""
-            streams.out(f"{name:<16}{load_demo(name).title}{lab}")
+            streams.out(f"{name:<16}{load_demo(name).title}")
         return 0
     names = [args.name] if args.name else list(LAB_DEMOS)
     return execute([load_demo(n) for n in names], args, streams)
