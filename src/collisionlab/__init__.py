@@ -12,6 +12,7 @@ from .errors import CollisionLabError, InvalidInputError, UnsupportedPairError
 from .narrowphase import contact, distance, intersects, separation, supported_pairs
 from .resolution import reflect_velocity, resolve_collision, separate
 from .shapes import AABB, Circle, Line, Plane, Shape, Sphere
+from .toi import Impact, time_of_impact
 from .vector import Vector3D, VectorLike
 
 __all__ = [
@@ -19,6 +20,7 @@ __all__ = [
     "Circle",
     "CollisionLabError",
     "Contact",
+    "Impact",
     "InvalidInputError",
     "Line",
     "Plane",
@@ -36,6 +38,7 @@ __all__ = [
     "separate",
     "separation",
     "supported_pairs",
+    "time_of_impact",
 ]
 
 __version__ = "0.1.0"
