@@ -162,7 +162,8 @@ def test_free_two_body_collisions_conserve_momentum(m_a, m_b, vx, offset, e, mod
     p0, p1 = record.ledger.momentum_start, record.ledger.momentum_end
     assert (p1 - p0).length() <= 1e-12 * p0.length() + 1e-15
     # the ledger attributes the energy change to the collision, as theory predicts
-    assert record.ledger.collisions == pytest.approx(record.ledger.collisions_predicted, rel=1e-9, abs=1e-12)
+    scale = record.ledger.kinetic_start  # rounding of a difference of energies is relative to them
+    assert record.ledger.collisions == pytest.approx(record.ledger.collisions_predicted, rel=1e-9, abs=1e-14 * scale)
 
 
 def test_exact_grazing_impact_is_one_event():

@@ -166,18 +166,20 @@ class World:
                 self._touching.discard(pair)
 
     # --- resolution ----------------------------------------------------------------------------
-    def _resolve(self, pair: _Pair, normal: Vector3D, point: Vector3D, time: float, fresh: bool = False) -> bool:
+    def _resolve(
+        self, pair: _Pair, normal: Vector3D, point: Vector3D, time: float, fresh: bool = False
+    ) -> float | None:
         """Apply the impulse along ``normal`` (from A to B) if the pair approaches; record it as
         an event if the pair was not already in contact, or if it arrives from a flight found by
-        time of impact (``fresh``) faster than ``REST_SPEED``. Returns whether an impulse was
-        applied."""
+        time of impact (``fresh``) faster than ``REST_SPEED``. Returns the approach speed
+        ``v_n`` (< 0) when an impulse was applied, else ``None``."""
         body_b = self.scenario.bodies[pair.b]
         va, vb = self._velocity_a(pair), self.velocities[pair.b]
         vn = (vb - va).dot(normal)
         if vn >= 0.0:
             if pair not in self._touching:
                 self.record.skipped.append(SkippedContact(self.step_index, time, self._names(pair), "separating"))
-            return False
+            return None
         inverse_a = 0.0 if pair.static else 1.0 / self.scenario.bodies[pair.a].mass
         inverse_b = 1.0 / body_b.mass
         below = -vn < REST_SPEED
@@ -218,7 +220,7 @@ class World:
                 )
             )
             self._touching.add(pair)
-        return True
+        return vn
 
     def _pair_kinetic(self, pair: _Pair) -> float:
         indices = (pair.b,) if pair.static else (pair.a, pair.b)
@@ -328,11 +330,14 @@ class World:
             elapsed += impact.time
             remaining -= impact.time
             fresh = impact.time > 0.0 and not impact.initially_overlapping
-            if self._resolve(pair, impact.normal, self._separation(pair).point, start + elapsed, fresh):
-                impacts += 1
-                ignored.clear()
-            else:
+            vn = self._resolve(pair, impact.normal, self._separation(pair).point, start + elapsed, fresh)
+            impacts += 1
+            if vn is None or -vn < REST_SPEED:
+                # Nothing to do, or a touch too slow to bounce (e = 0 applied): this pair is in
+                # resting contact; look at it again next step, so rounding cannot loop here.
                 ignored.add(pair)
+            else:
+                ignored.clear()
         self.time = self.step_index * settings.dt
 
     def _advance(self, duration: float, accelerations: list[Vector3D]) -> None:
