@@ -9,11 +9,15 @@ Touching policy, the same for every pair: shapes whose distance is exactly 0 are
 (depth 0), as in the lab's eqs. 7 and 9 (``<= r``). A line or plane is the whole infinite line
 or plane; its contact normal points to the side the other shape's centre is on.
 
-Degenerate policy: when the features that define the normal coincide (equal centres, a centre
-exactly on the line or plane, a box centre at a box centre) the normal is a fixed axis:
-``FALLBACK_NORMAL`` for two balls or two boxes, the boundary's own normal for a line or plane,
-and the depth is the full depth along it. For that case only, ``contact(b, a)`` is not the
-flip of ``contact(a, b)``: both report the fallback axis.
+Degenerate policy: when the features that define the normal coincide the normal is a fixed
+axis and the depth is the full depth along it: ``FALLBACK_NORMAL`` for two balls with equal
+centres; the boundary's own normal for a ball centre or box centre exactly on a line or plane;
+the + direction of the axis of least overlap for two boxes whose centres are level along that
+axis; minus the outward normal of the nearest face (first in x-, x+, y-, y+, z-, z+ order on a
+tie) for a ball centre inside or on a box. For the two same-type cases only (equal ball
+centres, box centres level along the axis of least overlap), ``contact(b, a)`` is not the flip
+of ``contact(a, b)``: both report the same axis. Every mixed pair is computed once and
+mirrored, so ``contact(b, a) == contact(a, b).flipped()`` always holds for it.
 """
 
 from __future__ import annotations
@@ -72,16 +76,19 @@ def _boundary_ball(origin: Vector3D, unit_normal: Vector3D, center: Vector3D, ra
 def _boundary_box(origin: Vector3D, unit_normal: Vector3D, box: AABB) -> Separation:
     """A line or plane and a box (Ericson 5.2.3): the box's projected radius on the normal is
     ``h = sum_i |n_i| e_i`` (``e`` the half size) and ``d = |n.(c - P)| - h``."""
-    half = box.half_size
     center = box.center
     s = unit_normal.dot(center - origin)
-    h = abs(unit_normal.x) * half.x + abs(unit_normal.y) * half.y + abs(unit_normal.z) * half.z
     normal = -unit_normal if s < 0.0 else unit_normal
-    # The box vertex nearest the boundary: from the centre, against the normal on every axis.
+    # The box vertex nearest the boundary, against the normal on every axis, taken from the
+    # corners themselves (not centre -+ half size, which rounds a corner 1 ulp off the boundary
+    # onto it). Then ``d = n.(vertex - P)``, which equals ``|s| - h`` exactly in real arithmetic.
     vertex = Vector3D(
-        *(c - math.copysign(e, n) if n != 0.0 else c for c, e, n in zip(center, half, normal, strict=True))
+        *(
+            (lo if n > 0.0 else hi) if n != 0.0 else c
+            for c, lo, hi, n in zip(center, box.min_corner, box.max_corner, normal, strict=True)
+        )
     )
-    gap = abs(s) - h
+    gap = normal.dot(vertex - origin)
     return Separation(gap, normal, vertex - normal * (gap * 0.5))
 
 

@@ -106,13 +106,19 @@ class AABB:
     def from_center_size(center: VectorLike, size: VectorLike) -> AABB:
         """A box from its centre and its full edge lengths (2 or 3 numbers, each > 0).
 
+        The box is 2D when ``size`` has 2 components, or has ``z == 0`` about a centre with
+        ``z == 0`` (so a 2D box's own ``center`` and ``2 * half_size`` rebuild it).
+
         >>> AABB.from_center_size((1, 1), (2, 2))
         AABB(min_corner=Vector3D(x=0.0, y=0.0, z=0.0), max_corner=Vector3D(x=2.0, y=2.0, z=0.0))
+        >>> AABB.from_center_size(Vector3D(1, 1), Vector3D(2, 2)).dim
+        2
         """
         c = as_vector(center, "center")
         s = as_vector(size, "size")
         sizes = list(s)
-        is_2d = not isinstance(size, Vector3D) and len(size) == 2
+        given_2d = not isinstance(size, Vector3D) and len(size) == 2
+        is_2d = s.z == 0.0 and (given_2d or c.z == 0.0)
         for axis, edge in zip("xyz", sizes[: 2 if is_2d else 3], strict=False):
             positive(edge, f"size.{axis}")
         if is_2d:

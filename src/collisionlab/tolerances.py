@@ -12,6 +12,7 @@ __all__ = [
     "CONTACT_SLOP",
     "FALLBACK_NORMAL",
     "REST_SPEED",
+    "SOLVER_MARGIN",
     "TIME_EPSILON",
     "TOI_SEPARATION",
 ]
@@ -31,6 +32,15 @@ FALLBACK_NORMAL: tuple[float, float, float] = (1.0, 0.0, 0.0)
 #: bounce). Relative to nothing: scenes are expected in metres at human scale. Box2D's linear
 #: slop is 5 mm; ours is much smaller because we push apart fully rather than softly.
 CONTACT_SLOP: float = 1e-9
+
+#: Metres. The many-body world (``collisionlab.particles``) gives the impulse solver every pair
+#: closer than ``r_a + r_b + SOLVER_MARGIN`` (and ball-wall gap below it), not only overlapping
+#: ones: twice ``CONTACT_SLOP``, so that balls left ``CONTACT_SLOP`` apart by push-apart stay in
+#: contact the next step. Without it a resting stack under gravity has no contacts between its
+#: balls, the floor's impulse cannot reach up the stack, and the stack sinks into deep overlaps.
+#: Only impulses see it (a pair approaching at a gap below 2 nm bounces now); push-apart still
+#: acts on true overlaps only.
+SOLVER_MARGIN: float = 2e-9
 
 #: Metres per second. A contact whose approach speed along the normal is below this stops
 #: bouncing (restitution is treated as 0), so a ball under gravity comes to rest instead of

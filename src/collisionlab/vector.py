@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
+from math import isfinite
 
 from .errors import InvalidInputError
 from .validate import finite_number
@@ -29,6 +30,12 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
     (32.0, (-3.0, 6.0, -3.0))
     >>> Vector3D(3, 4).length()
     5.0
+
+    Wherever a vector is expected (``+``, ``-``, ``dot``, ``cross``, the projections), a
+    sequence of 2 or 3 numbers is accepted too:
+
+    >>> Vector3D(1, 2) + (1, 1), (3, 3) - Vector3D(1, 2), Vector3D(1, 2).dot((3, 4))
+    (Vector3D(x=2.0, y=3.0, z=0.0), Vector3D(x=2.0, y=1.0, z=0.0), 11.0)
     """
 
     x: float
@@ -36,6 +43,10 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
     z: float = 0.0
 
     def __post_init__(self) -> None:
+        x, y, z = self.x, self.y, self.z
+        # Fast path for the common case (floats from arithmetic); the checks below are the rule.
+        if type(x) is float and type(y) is float and type(z) is float and isfinite(x) and isfinite(y) and isfinite(z):
+            return
         object.__setattr__(self, "x", finite_number(self.x, "x"))
         object.__setattr__(self, "y", finite_number(self.y, "y"))
         object.__setattr__(self, "z", finite_number(self.z, "z"))
@@ -53,11 +64,25 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         return (self.x, self.y, self.z)
 
     # --- arithmetic ----------------------------------------------------------------------
-    def __add__(self, other: Vector3D) -> Vector3D:
-        return Vector3D(self.x + other.x, self.y + other.y, self.z + other.z)
+    def __add__(self, other: VectorLike) -> Vector3D:
+        o = _operand(other)
+        if o is None:
+            return NotImplemented
+        return Vector3D(self.x + o.x, self.y + o.y, self.z + o.z)
 
-    def __sub__(self, other: Vector3D) -> Vector3D:
-        return Vector3D(self.x - other.x, self.y - other.y, self.z - other.z)
+    __radd__ = __add__
+
+    def __sub__(self, other: VectorLike) -> Vector3D:
+        o = _operand(other)
+        if o is None:
+            return NotImplemented
+        return Vector3D(self.x - o.x, self.y - o.y, self.z - o.z)
+
+    def __rsub__(self, other: VectorLike) -> Vector3D:
+        o = _operand(other)
+        if o is None:
+            return NotImplemented
+        return Vector3D(o.x - self.x, o.y - self.y, o.z - self.z)
 
     def __mul__(self, scalar: float) -> Vector3D:
         return Vector3D(self.x * scalar, self.y * scalar, self.z * scalar)
@@ -72,15 +97,19 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
     def __neg__(self) -> Vector3D:
         return Vector3D(-self.x, -self.y, -self.z)
 
-    def dot(self, other: Vector3D) -> float:
-        return self.x * other.x + self.y * other.y + self.z * other.z
+    def dot(self, other: VectorLike) -> float:
+        o = as_vector(other, "other")
+        return self.x * o.x + self.y * o.y + self.z * o.z
 
-    def cross(self, other: Vector3D) -> Vector3D:
+    def cross(self, other: VectorLike) -> Vector3D:
         """The cross product ``self x other`` (lab part I.A.3).
 
         >>> Vector3D(1, 0, 0).cross(Vector3D(0, 1, 0))
         Vector3D(x=0.0, y=0.0, z=1.0)
+        >>> Vector3D(1, 0).cross((0, 1))
+        Vector3D(x=0.0, y=0.0, z=1.0)
         """
+        other = as_vector(other, "other")
         return Vector3D(
             self.y * other.z - self.z * other.y,
             self.z * other.x - self.x * other.z,
@@ -193,3 +222,13 @@ like [x, y] or [x, y, z] (got (1, 2, 3, 4))
         raise InvalidInputError(field, "must have 2 or 3 components, like [x, y] or [x, y, z]", got=value)
     components = [finite_number(c, f"{field}[{i}]") for i, c in enumerate(value)]
     return Vector3D(*components)
+
+
+def _operand(value: object) -> Vector3D | None:
+    """The other operand of ``+`` or ``-`` as a vector, or ``None`` when it is not vector-like
+    (so that Python raises its usual ``TypeError``). A malformed sequence is still refused."""
+    if isinstance(value, Vector3D):
+        return value
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or not hasattr(value, "__getitem__"):
+        return None
+    return as_vector(value, "other")

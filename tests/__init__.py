@@ -1,0 +1,1 @@
+"""collisionlab's test suite (a package, so test modules can ``from tests.strategies import ...``)."""

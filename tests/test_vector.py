@@ -1,0 +1,187 @@
+"""Vector3D and as_vector: golden values (lab part I), properties, and input checks."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from collisionlab import InvalidInputError, Vector3D
+from collisionlab.vector import as_vector
+from tests.strategies import directions, vectors
+
+TOL = 1e-9
+
+
+def close(u: Vector3D, v: Vector3D, tol: float = TOL) -> bool:
+    return (u - v).length() <= tol * (1.0 + u.length() + v.length())
+
+
+# --- golden values ---------------------------------------------------------------------------
+def test_construction_defaults_z_to_zero_and_converts_to_float() -> None:
+    v = Vector3D(1, 2)
+    assert (v.x, v.y, v.z) == (1.0, 2.0, 0.0)
+    assert all(type(c) is float for c in v)
+
+
+def test_iterable_and_len() -> None:
+    v = Vector3D(1, 2, 3)
+    assert list(v) == [1.0, 2.0, 3.0]
+    assert tuple(v) == v.as_tuple() == (1.0, 2.0, 3.0)
+    assert len(v) == 3
+    x, y, z = v
+    assert (x, y, z) == (1.0, 2.0, 3.0)
+
+
+def test_immutable() -> None:
+    v = Vector3D(1, 2, 3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        v.x = 5.0  # type: ignore[misc]
+    assert v == Vector3D(1, 2, 3)
+
+
+def test_equality_and_hash() -> None:
+    assert Vector3D(1, 2) == Vector3D(1.0, 2.0, 0.0)
+    assert Vector3D(1, 2) != Vector3D(1, 2, 1e-300)
+    assert hash(Vector3D(1, 2)) == hash(Vector3D(1.0, 2.0, 0.0))
+    assert len({Vector3D(1, 2), Vector3D(1, 2, 0)}) == 1
+
+
+def test_arithmetic_golden() -> None:
+    a, b = Vector3D(1, 2, 3), Vector3D(4, 5, 6)
+    assert a + b == Vector3D(5, 7, 9)  # 1+4, 2+5, 3+6
+    assert b - a == Vector3D(3, 3, 3)  # 4-1, 5-2, 6-3
+    assert a * 2 == 2 * a == Vector3D(2, 4, 6)
+    assert a / 2 == Vector3D(0.5, 1, 1.5)
+    assert -a == Vector3D(-1, -2, -3)
+    assert a.dot(b) == 32.0  # 4 + 10 + 18
+    # (2*6 - 3*5, 3*4 - 1*6, 1*5 - 2*4) = (-3, 6, -3)
+    assert a.cross(b) == Vector3D(-3, 6, -3)
+    assert Vector3D(3, 4).length() == 5.0  # 3-4-5 triangle
+    assert Vector3D(1, 2, 2).length_squared() == 9.0  # 1 + 4 + 4
+    assert Vector3D(0, 3, 4).normalized() == Vector3D(0, 0.6, 0.8)  # (0, 3, 4) / 5
+
+
+def test_sequences_are_accepted_where_a_vector_is_expected() -> None:
+    v = Vector3D(1, 2)
+    assert v + (1, 1) == Vector3D(2, 3)  # noqa: RUF005 - vector addition, not concatenation
+    assert (1, 1) + v == Vector3D(2, 3)  # noqa: RUF005
+    assert v - [1, 1, 1] == Vector3D(0, 1, -1)
+    assert (3, 3) - v == Vector3D(2, 1)
+    assert v.dot((3, 4)) == 11.0  # 1*3 + 2*4
+    assert v.cross((0, 1)) == Vector3D(0, 0, 1)  # (1,2,0) x (0,1,0) = (0, 0, 1*1 - 2*0)
+    assert v.parallel_projection((5, 0)) == Vector3D(1, 0)
+    assert v.dot(np.array([3.0, 4.0])) == 11.0
+
+
+def test_operators_refuse_non_vectors_with_type_error() -> None:
+    v = Vector3D(1, 2)
+    with pytest.raises(TypeError):
+        v + 1  # type: ignore[operator]
+    with pytest.raises(TypeError):
+        "ab" - v  # type: ignore[operator]
+    with pytest.raises(InvalidInputError, match="other"):
+        v + (1, 2, 3, 4)  # noqa: RUF005
+
+
+def test_division_by_zero_names_divisor() -> None:
+    with pytest.raises(InvalidInputError) as info:
+        Vector3D(1, 2) / 0
+    assert info.value.field == "divisor"
+
+
+def test_projections_golden() -> None:
+    # Proj_(1,0) (3,4) = ((3*1 + 4*0) / 1) (1, 0) = (3, 0); the rest is (0, 4)
+    assert Vector3D(3, 4).parallel_projection((1, 0)) == Vector3D(3, 0)
+    assert Vector3D(3, 4).perpendicular_projection((1, 0)) == Vector3D(0, 4)
+    # onto (2, 2): ((1*2 + 3*2) / 8) (2, 2) = (2, 2); perpendicular (1, 3) - (2, 2) = (-1, 1)
+    assert Vector3D(1, 3).parallel_projection(Vector3D(2, 2)) == Vector3D(2, 2)
+    assert Vector3D(1, 3).perpendicular_projection(Vector3D(2, 2)) == Vector3D(-1, 1)
+
+
+def test_closest_point_on_line_lab_eq_6() -> None:
+    # S = P + Proj_d(PQ): P = (1, 0), d = (1, 1), Q = (3, 0): PQ = (2, 0),
+    # Proj = ((2*1 + 0*1) / 2) (1, 1) = (1, 1), so S = (2, 1)
+    assert Vector3D.closest_point_on_line((1, 0), (1, 1), (3, 0)) == Vector3D(2, 1)
+    # horizontal line y = 2: the foot of (5, -7) is (5, 2), whatever the direction's length
+    assert Vector3D.closest_point_on_line((0, 2), (-10, 0), (5, -7)) == Vector3D(5, 2)
+
+
+def test_closest_point_on_plane_lab_eq_8() -> None:
+    # S = Q - Proj_n(PQ): P = (0, 0, 1), n = (0, 0, 3), Q = (4, 5, 6): PQ = (4, 5, 5),
+    # Proj = ((5*3) / 9) (0, 0, 3) = (0, 0, 5), so S = (4, 5, 1)
+    assert Vector3D.closest_point_on_plane((0, 0, 1), (0, 0, 3), (4, 5, 6)) == Vector3D(4, 5, 1)
+    # plane x + y = 2 through (1, 1, 0), n = (1, 1, 0); Q = (3, 3, 7): PQ = (2, 2, 7),
+    # Proj = ((2 + 2) / 2) (1, 1, 0) = (2, 2, 0), S = (1, 1, 7)
+    assert Vector3D.closest_point_on_plane((1, 1, 0), (1, 1, 0), (3, 3, 7)) == Vector3D(1, 1, 7)
+
+
+def test_as_vector_accepts_2_and_3_sequences_and_arrays() -> None:
+    assert as_vector((1, 2), "v") == Vector3D(1, 2, 0)
+    assert as_vector([1, 2, 3], "v") == Vector3D(1, 2, 3)
+    assert as_vector(np.array([1.5, 2.5]), "v") == Vector3D(1.5, 2.5)
+    v = Vector3D(1, 2, 3)
+    assert as_vector(v, "v") is v
+
+
+# --- properties ------------------------------------------------------------------------------
+@given(vectors(), vectors())
+def test_addition_and_subtraction_invert(a: Vector3D, b: Vector3D) -> None:
+    assert close((a + b) - b, a)
+    assert a + b == b + a
+    assert a - b == -(b - a)
+
+
+@given(vectors(bound=1e2), vectors(bound=1e2))
+def test_cross_is_orthogonal_and_anticommutative(a: Vector3D, b: Vector3D) -> None:
+    c = a.cross(b)
+    scale = (a.length() * b.length()) ** 1.5 + 1.0
+    assert abs(c.dot(a)) <= 1e-12 * scale
+    assert abs(c.dot(b)) <= 1e-12 * scale
+    assert c == -(b.cross(a))
+
+
+@given(directions())
+def test_normalized_has_unit_length(v: Vector3D) -> None:
+    assert math.isclose(v.normalized().length(), 1.0, abs_tol=1e-15)
+
+
+@given(vectors(), directions())
+def test_projections_sum_to_vector_and_are_orthogonal(v: Vector3D, onto: Vector3D) -> None:
+    parallel = v.parallel_projection(onto)
+    perpendicular = v.perpendicular_projection(onto)
+    assert close(parallel + perpendicular, v)
+    assert abs(perpendicular.dot(onto.normalized())) <= 1e-9 * (1.0 + v.length())
+    assert parallel.cross(onto).length() <= 1e-9 * (1.0 + v.length()) * onto.length()
+
+
+@given(vectors(2), directions(2), vectors(2))
+def test_closest_point_on_line_is_on_line_and_foot_of_perpendicular(p: Vector3D, d: Vector3D, q: Vector3D) -> None:
+    s = Vector3D.closest_point_on_line(p, d, q)
+    u = d.normalized()
+    scale = 1.0 + p.length() + q.length()
+    assert abs((q - s).dot(u)) <= 1e-9 * scale  # QS is perpendicular to the line
+    assert abs((s - p).cross(u).z) <= 1e-9 * scale  # S lies on the line
+    assert s.z == 0.0
+
+
+@given(vectors(), directions(), vectors())
+def test_closest_point_on_plane_is_on_plane_and_foot_of_perpendicular(p: Vector3D, n: Vector3D, q: Vector3D) -> None:
+    s = Vector3D.closest_point_on_plane(p, n, q)
+    u = n.normalized()
+    scale = 1.0 + p.length() + q.length()
+    assert abs((s - p).dot(u)) <= 1e-9 * scale  # S lies on the plane
+    assert (q - s).cross(u).length() <= 1e-9 * scale  # QS is along the normal
+    # |QS| = |Proj_n PQ| (lab eq. 9)
+    assert math.isclose((q - s).length(), abs((q - p).dot(u)), rel_tol=1e-9, abs_tol=1e-9 * scale)
+
+
+@given(st.floats(1e-3, 1e3), st.sampled_from([-1.0, 1.0]), vectors(bound=1e3))
+def test_scalar_multiplication_scales_length(size: float, sign: float, v: Vector3D) -> None:
+    k = sign * size  # |k| >= 1e-3 keeps k * v out of the subnormal range
+    assert math.isclose((k * v).length(), abs(k) * v.length(), rel_tol=1e-12, abs_tol=1e-300)
+    assert close((v * k) / k, v)
