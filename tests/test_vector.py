@@ -185,3 +185,19 @@ def test_scalar_multiplication_scales_length(size: float, sign: float, v: Vector
     k = sign * size  # |k| >= 1e-3 keeps k * v out of the subnormal range
     assert math.isclose((k * v).length(), abs(k) * v.length(), rel_tol=1e-12, abs_tol=1e-300)
     assert close((v * k) / k, v)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-150, 1.0, 1e150, 1e200])
+def test_projection_works_for_very_short_and_very_long_axes(scale):
+    # Proj_d(v) does not depend on |d|: (3, 4) onto the x axis is (3, 0) at any scale, though
+    # |d|^2 underflows (1e-200^2) or overflows (1e200^2) in floating point.
+    close = {"rel": 1e-15, "abs": 1e-15}
+    assert tuple(Vector3D(3, 4).parallel_projection((scale, 0))) == pytest.approx((3, 0, 0), **close)
+    assert tuple(Vector3D.closest_point_on_line((0, 0), (scale, 0), (3, 4))) == pytest.approx((3, 0, 0), **close)
+    plane_point = Vector3D.closest_point_on_plane((0, 0, 0), (0, 0, scale), (1, 2, 4))
+    assert tuple(plane_point) == pytest.approx((1, 2, 0), **close)
+
+
+def test_vector_times_vector_is_a_type_error():
+    with pytest.raises(TypeError):
+        Vector3D(1, 2) * Vector3D(3, 4)  # ambiguous: dot or cross

@@ -51,6 +51,8 @@ def positive_or_inf(value: object, field: str) -> float:
     """A number > 0, where ``math.inf`` is allowed (a static body's mass)."""
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == math.inf:
         return math.inf
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not float(value) > 0.0:
+        raise InvalidInputError(field, "must be > 0 (math.inf for a static body)", got=value)
     return positive(value, field)
 
 

@@ -85,6 +85,8 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         return Vector3D(o.x - self.x, o.y - self.y, o.z - self.z)
 
     def __mul__(self, scalar: float) -> Vector3D:
+        if not isinstance(scalar, (int, float)):
+            return NotImplemented  # Vector3D * Vector3D is ambiguous: use dot or cross
         return Vector3D(self.x * scalar, self.y * scalar, self.z * scalar)
 
     __rmul__ = __mul__
@@ -148,12 +150,22 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         Vector3D(x=3.0, y=0.0, z=0.0)
         >>> Vector3D(1, 1, 0).parallel_projection((2, 2, 0))
         Vector3D(x=1.0, y=1.0, z=0.0)
+        >>> Vector3D(1, 1).parallel_projection((1e-200, 0))   # |onto|^2 would underflow to 0
+        Vector3D(x=1.0, y=0.0, z=0.0)
+
+        ``onto`` is first scaled by a power of two (exact in floating point) to a largest
+        component in [0.5, 1), so that very short or very long ``onto`` neither underflows nor
+        overflows; the value is the formula's up to rounding.
         """
-        axis = as_vector(onto, "onto")
-        denominator = axis.length_squared()
-        if denominator == 0.0:
-            raise InvalidInputError("onto", "must not be the zero vector", got=axis.as_tuple())
-        return axis * (self.dot(axis) / denominator)
+        return self._projection(as_vector(onto, "onto"), "onto")
+
+    def _projection(self, axis: Vector3D, field: str) -> Vector3D:
+        largest = max(abs(axis.x), abs(axis.y), abs(axis.z))
+        if largest == 0.0:
+            raise InvalidInputError(field, "must not be the zero vector", got=axis.as_tuple())
+        exponent = math.frexp(largest)[1]
+        axis = Vector3D(*(math.ldexp(c, -exponent) for c in axis))
+        return axis * (self.dot(axis) / axis.length_squared())
 
     def perpendicular_projection(self, onto: VectorLike) -> Vector3D:
         """``self`` minus its parallel projection onto ``onto``.
@@ -176,9 +188,7 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         p = as_vector(point_on_line, "point_on_line")
         d = as_vector(direction, "direction")
         q = as_vector(point, "point")
-        if d.length_squared() == 0.0:
-            raise InvalidInputError("direction", "must not be the zero vector", got=d.as_tuple())
-        return p + (q - p).parallel_projection(d)
+        return p + (q - p)._projection(d, "direction")
 
     @staticmethod
     def closest_point_on_plane(point_on_plane: VectorLike, normal: VectorLike, point: VectorLike) -> Vector3D:
@@ -191,9 +201,7 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         p = as_vector(point_on_plane, "point_on_plane")
         n = as_vector(normal, "normal")
         q = as_vector(point, "point")
-        if n.length_squared() == 0.0:
-            raise InvalidInputError("normal", "must not be the zero vector", got=n.as_tuple())
-        return q - (q - p).parallel_projection(n)
+        return q - (q - p)._projection(n, "normal")
 
 
 VectorLike = Vector3D | Sequence[float]
