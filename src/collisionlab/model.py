@@ -147,7 +147,8 @@ class Scenario:
     def energy_warning(self) -> str | None:
         """A warning when some restitution exceeds 1 (each collision then adds kinetic energy)."""
         values = [self.settings.restitution]
-        values += [x.restitution for x in (*self.bodies, *self.obstacles) if x.restitution is not None]
+        things: tuple[Body | Obstacle, ...] = (*self.bodies, *self.obstacles)
+        values += [x.restitution for x in things if x.restitution is not None]
         worst = max(values)
         if worst > 1.0:
             return f"restitution {worst:g} > 1: every collision adds kinetic energy (the postlab's question 4)"

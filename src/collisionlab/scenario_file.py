@@ -7,6 +7,7 @@ in the README ("Scenario files").
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import tomllib
@@ -141,7 +142,8 @@ def _static(source: str, data: object, index: int) -> Obstacle:
         points = table["points"]
         if not isinstance(points, list) or len(points) != 3:
             raise ScenarioError(source, f"{field}.points", "must be a list of three points [[x, y, z], ...]")
-        corners = [_check(source, lambda p=p: as_vector(p, f"{field}.points"), f"{field}.points") for p in points]
+        where = f"{field}.points"
+        corners = [_check(source, functools.partial(as_vector, p, where), where) for p in points]
         shape = _check(source, lambda: Plane.from_points(*corners), f"{field}.points")
     else:
         point = _vector(source, table, field, "point")
@@ -165,10 +167,20 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
             raise ScenarioError(source, key, f"must be an array of tables, written [[{key}]]")
     bodies = [_body(source, b, i) for i, b in enumerate(bodies_data)]
     statics = [_static(source, s, i) for i, s in enumerate(statics_data)]
+    fields = [f"body[{i}]" for i in range(len(bodies))] + [f"static[{i}]" for i in range(len(statics))]
+    seen: set[str] = set()
+    things: list[Body | Obstacle] = [*bodies, *statics]
+    for thing, where in zip(things, fields, strict=True):
+        if thing.name in seen:
+            raise ScenarioError(source, f"{where}.name", "must be unique among bodies and obstacles", got=thing.name)
+        seen.add(thing.name)
     name = sim.get("title", title or Path(source).stem)
     if not isinstance(name, str):
         raise ScenarioError(source, "simulation.title", "must be a string", got=name)
-    return _check(source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name), "scenario")
+    # The scenario's own checks name a body (a pair that cannot collide), ``gravity`` or ``body``.
+    names = {b.name: f"{where}.shape" for b, where in zip(bodies, fields, strict=False)}
+    names.update({"gravity": "simulation.gravity", "body": "body"})
+    return _check(source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name), "scenario", names)
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -196,6 +208,27 @@ def _vec(vector: Vector3D, dim: int = 3) -> str:
     return "[" + ", ".join(_fmt(c) for c in vector.as_tuple()[:dim]) + "]"
 
 
+def _shortest(value: float) -> list[float]:
+    """``value`` written with 1, 2, ... 17 significant digits (the last is ``value`` itself)."""
+    return [float(f"{value:.{digits}g}") for digits in range(1, 18)]
+
+
+def _centre_and_size(box: AABB) -> tuple[Vector3D, Vector3D]:
+    """A centre and size that rebuild exactly the box's corners (as :meth:`AABB.from_center_size`
+    computes them): the shortest decimals that do, else the plain centre and size. The plain
+    ``(min + max) / 2`` can be an ulp off the number the file gave (0.19999999999999998)."""
+    centre, size = list(box.center.as_tuple()), list((box.max_corner - box.min_corner).as_tuple())
+    for axis, (low, high) in enumerate(zip(box.min_corner.as_tuple(), box.max_corner.as_tuple(), strict=True)):
+        found = next(
+            ((c, s) for s in _shortest(size[axis]) for c in _shortest(centre[axis])
+             if c - s * 0.5 == low and c + s * 0.5 == high),
+            None,
+        )
+        if found is not None:
+            centre[axis], size[axis] = found
+    return Vector3D(*centre), Vector3D(*size)
+
+
 def _str(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
@@ -217,8 +250,8 @@ def scenario_to_toml(scenario: Scenario) -> str:
         lines += ["", "[[body]]", f"name = {_str(body.name)}"]
         if isinstance(shape, AABB):
             dim = shape.dim
-            lines += ['shape = "aabb"', f"position = {_vec(shape.center, dim)}"]
-            lines.append(f"size = {_vec(shape.max_corner - shape.min_corner, dim)}")
+            centre, size = _centre_and_size(shape)
+            lines += ['shape = "aabb"', f"position = {_vec(centre, dim)}", f"size = {_vec(size, dim)}"]
         else:
             kind = "circle" if isinstance(shape, Circle) else "sphere"
             dim = 2 if kind == "circle" else 3
@@ -231,10 +264,11 @@ def scenario_to_toml(scenario: Scenario) -> str:
         lines += ["", "[[static]]", f"name = {_str(obstacle.name)}"]
         if isinstance(shape_o, AABB):
             dim = shape_o.dim
-            lines += ['shape = "aabb"', f"position = {_vec(shape_o.center, dim)}"]
-            lines.append(f"size = {_vec(shape_o.max_corner - shape_o.min_corner, dim)}")
+            centre, size = _centre_and_size(shape_o)
+            lines += ['shape = "aabb"', f"position = {_vec(centre, dim)}", f"size = {_vec(size, dim)}"]
         elif isinstance(shape_o, Line):
-            lines += ['shape = "line"', f"point = {_vec(shape_o.point, 2)}", f"direction = {_vec(shape_o.direction, 2)}"]
+            lines += ['shape = "line"', f"point = {_vec(shape_o.point, 2)}"]
+            lines.append(f"direction = {_vec(shape_o.direction, 2)}")
         else:
             lines += ['shape = "plane"', f"point = {_vec(shape_o.point)}", f"normal = {_vec(shape_o.normal)}"]
         if obstacle.restitution is not None:

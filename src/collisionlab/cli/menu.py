@@ -39,15 +39,15 @@ class Question:
 
 def _numbers(text: str, count: int, field: str) -> list[float]:
     parts = text.replace(",", " ").split()
-    if len(parts) != count:
-        expected = "one number" if count == 1 else f"{count} numbers like '{' '.join('xyz'[:count])}'"
-        raise InvalidInputError(field, f"expected {expected}, got {len(parts)} values")
     values = []
-    for part in parts:
+    for part in parts:  # text first: "abc" is not a number, whatever the count
         try:
             values.append(float(part))
         except ValueError:
             raise InvalidInputError(field, f"'{part}' is not a number") from None
+    if len(parts) != count:
+        expected = "one number" if count == 1 else f"{count} numbers like '{' '.join('xyz'[:count])}'"
+        raise InvalidInputError(field, f"expected {expected}, got {len(parts)}")
     return [finite_number(v, field) for v in values]
 
 
@@ -281,7 +281,13 @@ def run_menu(streams: Streams) -> int:
         plotting.save_plot(record, scenario, path)
         streams.out(f"wrote {path}")
     if dialogue.yes("save these answers as a scenario file?"):
-        path = dialogue.ask("scenario file [scenario.toml]: ") or "scenario.toml"
-        write_text_atomically(path, lambda: scenario_to_toml(scenario))
-        streams.out(f"wrote {path}; run it again with: collisionlab run {path}")
+        while True:
+            path = dialogue.ask("scenario file [scenario.toml]: ") or "scenario.toml"
+            try:
+                write_text_atomically(path, lambda: scenario_to_toml(scenario))
+            except OSError as error:  # a missing folder or no permission: ask again, keep the answers
+                streams.out(f"  ! cannot write {path}: {error.strerror or error}; try again")
+                continue
+            streams.out(f"wrote {path}; run it again with: collisionlab run {path}")
+            break
     return 0

@@ -1,0 +1,115 @@
+"""Helpers for driving the command line in-process (through its streams) and as a subprocess."""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import select
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from collisionlab.cli import Streams, main
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLES = REPO / "src" / "collisionlab" / "examples"
+EXAMPLE_NAMES = sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+#: The console script of the venv the tests run in (the package is installed editable).
+SCRIPT = Path(sys.executable).with_name("collisionlab")
+
+COLLISION_LINE = re.compile(r"^collision at step (\d+) \(t = (\d+\.\d{3}) s\): (.+)$")
+
+
+@dataclass
+class Result:
+    status: int
+    out: str
+    err: str
+
+    @property
+    def lines(self) -> list[str]:
+        return self.out.splitlines()
+
+    def collisions(self) -> list[tuple[int, str]]:
+        """``(step, what)`` of every ``collision at step ...`` line of stdout."""
+        found = []
+        for line in self.lines:
+            match = COLLISION_LINE.match(line)
+            if match:
+                found.append((int(match.group(1)), match.group(3)))
+        return found
+
+    def json(self) -> Any:
+        return json.loads(self.out)
+
+
+def run_cli(argv: list[str], stdin: str | io.StringIO = "", interactive: bool = False) -> Result:
+    """``main(argv)`` with string streams; ``stdin`` is the typed answers."""
+    source = io.StringIO(stdin) if isinstance(stdin, str) else stdin
+    out, err = io.StringIO(), io.StringIO()
+    status = main(argv, Streams(source, out, err, interactive))
+    return Result(status, out.getvalue(), err.getvalue())
+
+
+def typed(*answers: str) -> str:
+    """Lines as typed at the prompts ("" is Enter, accepting the default)."""
+    return "".join(a + "\n" for a in answers)
+
+
+class InterruptingStdin(io.StringIO):
+    """Answers ``lines`` and then raises KeyboardInterrupt, as Ctrl-C at the next prompt does."""
+
+    def __init__(self, text: str) -> None:
+        super().__init__(text)
+
+    def readline(self, size: int | None = -1) -> str:
+        line = super().readline()
+        if not line:
+            raise KeyboardInterrupt
+        return line
+
+
+def example(name: str) -> str:
+    return str(EXAMPLES / f"{name}.toml")
+
+
+def files_in(folder: Path) -> list[str]:
+    """Every entry of ``folder``, hidden ones (temporary files) included."""
+    return sorted(os.listdir(folder))
+
+
+def read_until(fd: int, marker: bytes, timeout: float = 20.0) -> bytes:
+    """Read ``fd`` (a pseudo-terminal's master side, or a pipe) until ``marker`` appears;
+    bounded by ``timeout`` so that a hung child fails the test instead of hanging it."""
+    buffer = b""
+    deadline = time.monotonic() + timeout
+    while marker not in buffer:
+        left = deadline - time.monotonic()
+        if left <= 0:
+            raise AssertionError(f"{marker!r} never came; got {buffer.decode(errors='replace')!r}")
+        ready, _, _ = select.select([fd], [], [], min(left, 0.5))
+        if ready:
+            try:
+                chunk = os.read(fd, 4096)
+            except OSError:  # the pty's other side closed (the child ended)
+                chunk = b""
+            if not chunk:
+                raise AssertionError(f"end of output before {marker!r}; got {buffer.decode(errors='replace')!r}")
+            buffer += chunk
+    return buffer
+
+
+def finish(process: subprocess.Popen[bytes], timeout: float = 20.0) -> tuple[int, bytes]:
+    """Wait for ``process`` (bounded); kill it if it hangs. Returns the status and its stderr."""
+    try:
+        _, err = process.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        _, err = process.communicate()
+        raise AssertionError(f"the child did not end within {timeout} s; stderr {err!r}") from None
+    return process.returncode, err or b""

@@ -1,0 +1,425 @@
+"""``collisionlab run FILE.toml`` and ``collisionlab demo [NAME]``: every example file against
+values worked by hand, the options, exit statuses, atomic ``--output`` and the real console script.
+
+(``--plot``, ``--animate`` and ``--html`` are not tested here: their module is still being written.)
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import os
+import pty
+import signal
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from collisionlab.demos import LAB_DEMOS, demo_names
+from tests.cli_helpers import EXAMPLE_NAMES, SCRIPT, example, files_in, finish, read_until, run_cli
+
+
+def events(name: str, *options: str) -> list[dict[str, Any]]:
+    result = run_cli(["run", example(name), "--format", "json", *options])
+    assert result.status == 0, result.err
+    found: list[dict[str, Any]] = result.json()["events"]
+    return found
+
+
+def close(actual: list[float], expected: tuple[float, ...], tol: float = 1e-9) -> bool:
+    return len(actual) == 3 and all(math.isclose(a, e, abs_tol=tol) for a, e in zip(actual, expected, strict=False))
+
+
+# --- every example file: the collision step and the velocity after it, worked by hand ------------
+def test_aabb3d() -> None:
+    # Edge-1 boxes centred at x = 0 and 3.05: gap (3.05 - 0.5) - (0 + 0.5) = 2.05 m, closing at
+    # 1 - (-1) = 2 m/s, 0.02 m a step: 2.05 - 0.02 k < 0 first at k = 103 (102.5 is not a step).
+    # y offset 0.2 and z offset 0.1 are < 1, so the boxes overlap there too. The least penetration is
+    # along x (0.01 m against 0.8 and 0.9), so n = (1, 0, 0); equal masses, e = 1 in 1D: they swap.
+    (event,) = events("aabb3d")
+    assert (event["step"], event["bodies"]) == (103, ["box A", "box B"])
+    assert math.isclose(event["time"], 1.03)
+    assert close(event["normal"], (1, 0, 0))
+    assert close(event["velocities_after"]["box A"], (-1, 0, 0))
+    assert close(event["velocities_after"]["box B"], (1, 0, 0))
+
+
+def test_spheres() -> None:
+    # r = 0.5 each; centre distance^2 = (3 - 0.02 k)^2 + 0.3^2 <= (0.5 + 0.5)^2 when
+    # 3 - 0.02 k <= sqrt(0.91) = 0.95394, k >= 102.3: step 103, d = (0.94, 0.3), |d|^2 = 0.9736.
+    # n = d / |d|; v_n = (vB - vA).n = -2 * 0.94 / |d|; j = -(1 + e) v_n / (1/1 + 1/1) = -v_n;
+    # j n = 2 * 0.94 * (0.94, 0.3) / 0.9736 = (1.815119, 0.579293):
+    # vA' = (1, 0, 0) - j n = (-0.815119, -0.579293, 0), vB' = (-1, 0, 0) + j n = (0.815119, 0.579293, 0).
+    (event,) = events("spheres")
+    assert event["step"] == 103
+    jn = (2 * 0.94 * 0.94 / 0.9736, 2 * 0.94 * 0.3 / 0.9736)
+    assert close(event["velocities_after"]["sphere A"], (1 - jn[0], -jn[1], 0))
+    assert close(event["velocities_after"]["sphere B"], (-1 + jn[0], jn[1], 0))
+    assert math.isclose(jn[0], 1.815119, abs_tol=1e-6) and math.isclose(jn[1], 0.579293, abs_tol=1e-6)
+
+
+def test_circle_line() -> None:
+    # y = 2.01 - 2 * 0.01 k <= r = 0.5 first at k = 76 (75.5 is not a step; y = 0.49 there).
+    # Lab eq. 24, n = (0, 1), e = 0.8: v' = (1, -2) - 1.8 * (-2) * (0, 1) = (1, 1.6).
+    (event,) = events("circle-line")
+    assert (event["step"], event["bodies"]) == (76, ["line", "circle"])
+    assert close(event["normal"], (0, 1, 0))
+    assert close(event["velocities_after"]["circle"], (1, 1.6, 0))
+    assert list(event["velocities_after"]) == ["circle"]  # the line does not move
+
+
+def test_sphere_plane() -> None:
+    # Plane through a = (0,0,0), b = (0,0,1), c = (1,0,0): n = (b - a) x (c - a) = (0,0,1) x (1,0,0)
+    # = (0*0 - 1*0, 1*1 - 0*0, 0*0 - 0*1) = (0, 1, 0). y = 3.01 - 0.02 k <= 0.5 first at k = 126.
+    # v' = (1, -2, 0.5) - 1.8 * (-2) * (0, 1, 0) = (1, 1.6, 0.5).
+    (event,) = events("sphere-plane")
+    assert (event["step"], event["bodies"]) == (126, ["floor", "ball"])
+    assert close(event["velocities_after"]["ball"], (1, 1.6, 0.5))
+
+
+def test_head_on() -> None:
+    # Exact mode. Centres 4 m apart closing at 3 m/s touch at distance 1: t = 3 / 3 = 1 s, the end of
+    # step 100 (step k covers ((k-1) dt, k dt]); rounding of the step start may put it at the start of
+    # step 101 instead. 1D elastic: v1' = ((1 - 3) 2 + 2 * 3 (-1)) / 4 = -2.5, v2' = ((3 - 1)(-1) + 2 * 2) / 4 = 0.5.
+    (event,) = events("head-on")
+    assert event["step"] in (100, 101)
+    assert math.isclose(event["time"], 1.0, abs_tol=1e-9)
+    assert close(event["velocities_after"]["light"], (-2.5, 0, 0))
+    assert close(event["velocities_after"]["heavy"], (0.5, 0, 0))
+
+
+def test_circle_box() -> None:
+    # The puck (r = 0.5, y = 0.8 inside the block's face x = -1) touches when x + 0.5 >= -1:
+    # x = -3 + 0.03 k >= -1.5 at k = 50 exactly; fifty Euler steps of 3 * 0.01 leave x at
+    # -1.500000000000006 (a hair short: 0.03 is not a binary fraction), so contact comes at k = 51.
+    # n = (-1, 0) from the block to the puck, e = 0.9: vx' = 3 - 1.9 * 3 = -2.7.
+    (event,) = events("circle-box")
+    assert event["step"] == 51
+    assert close(event["velocities_after"]["puck"], (-2.7, 0, 0))
+
+
+def test_ball_in_box() -> None:
+    # Exact mode, r = 0.5 between walls at +-2: the centre turns at +-1.5. From (0, 0) at (3, 2):
+    # x walls at t = 0.5, 1.5, 2.5, 3.5, 4.5 (every 3 m / 3 m/s = 1 s), y walls at t = 0.75, 2.25,
+    # 3.75 (every 1.5 s); 5 s in all: 8 bounces, each flipping one component, speed unchanged.
+    found = events("ball-in-box")
+    times = [0.5, 0.75, 1.5, 2.25, 2.5, 3.5, 3.75, 4.5]
+    walls = ["right wall", "ceiling", "left wall", "floor", "right wall", "left wall", "ceiling", "right wall"]
+    assert [e["bodies"][0] for e in found] == walls
+    assert all(math.isclose(e["time"], t, abs_tol=1e-9) for e, t in zip(found, times, strict=True))
+    velocity = [3.0, 2.0]
+    for event in found:
+        axis = 0 if "wall" in event["bodies"][0] else 1
+        velocity[axis] = -velocity[axis]
+        assert close(event["velocities_after"]["ball"], (*velocity, 0))
+
+
+def test_bouncing_ball() -> None:
+    # Exact mode, g = 9.81: the bottom (r = 0.25) falls 2 - 0.25 = 1.75 m: t = sqrt(2 * 1.75 / 9.81)
+    # = 0.597310 s (step 60), arriving at 9.81 t = 5.859607 m/s, leaving at 0.8 of it = 4.687686 m/s.
+    # Each bounce leaves at e times the speed of the one before (the fall mirrors the rise).
+    found = events("bouncing-ball")
+    t = math.sqrt(2 * 1.75 / 9.81)
+    first = found[0]
+    assert first["step"] == 60 and math.isclose(first["time"], t, rel_tol=1e-9)
+    assert close(first["velocities_after"]["ball"], (0.5, 0.8 * 9.81 * t, 0), tol=1e-9)
+    speeds = [e["velocities_after"]["ball"][1] for e in found[:6]]
+    assert all(math.isclose(b / a, 0.8, rel_tol=1e-6) for a, b in itertools.pairwise(speeds))
+
+
+def test_newtons_cradle() -> None:
+    # b1 (at -2, 2 m/s) meets b2 (at 0) when the centres are 1 apart: t = 1 / 2 = 0.5 s, step 50.
+    # Equal masses, e = 1: each impact hands the whole velocity on, through the touching row, to b5.
+    found = events("newtons-cradle")
+    assert [e["bodies"] for e in found] == [["b1", "b2"], ["b2", "b3"], ["b3", "b4"], ["b4", "b5"]]
+    assert all(e["step"] == 50 for e in found)
+    for event in found:
+        first, second = event["bodies"]
+        assert close(event["velocities_after"][first], (0, 0, 0))
+        assert close(event["velocities_after"][second], (2, 0, 0))
+
+
+def test_every_example_file_is_covered_above() -> None:
+    covered = {"aabb3d", "spheres", "circle-line", "sphere-plane", "head-on", "circle-box", "ball-in-box",
+               "bouncing-ball", "newtons-cradle"}
+    assert set(EXAMPLE_NAMES) == covered
+
+
+@pytest.mark.parametrize("name", EXAMPLE_NAMES)
+def test_every_example_runs_as_a_table_with_a_collision_and_a_summary(name: str) -> None:
+    result = run_cli(["run", example(name)])
+    assert result.status == 0, result.err
+    assert result.collisions()
+    assert "velocit" in result.lines[result.lines.index(next(x for x in result.lines if x.startswith("collision")))
+                                     + 1]
+    assert any(line.startswith("summary: ") for line in result.lines)
+
+
+@pytest.mark.parametrize("name", EXAMPLE_NAMES)
+def test_every_example_runs_the_same_as_its_demo(name: str) -> None:
+    assert run_cli(["run", example(name)]).out == run_cli(["demo", name]).out
+
+
+def test_the_collision_line_names_what_hit_what() -> None:
+    result = run_cli(["run", example("sphere-plane")])
+    assert "collision at step 126 (t = 1.260 s): ball hits floor" in result.lines
+    assert "  velocity after: ball = (1.000, 1.600, 0.500) m/s" in result.lines
+    result = run_cli(["run", example("aabb3d")])
+    assert "collision at step 103 (t = 1.030 s): box A and box B collide" in result.lines
+    assert "  velocities after: box A = (-1.000, 0.000, 0.000), box B = (1.000, 0.000, 0.000) m/s" in result.lines
+
+
+# --- demo -----------------------------------------------------------------------------------------
+def test_demo_without_a_name_runs_the_labs_four_cases_without_asking() -> None:
+    result = run_cli(["demo"], stdin="")  # nothing to read: it must not ask
+    assert result.status == 0, result.err
+    titles = [line for line in result.lines if line.startswith("Lab case ")]
+    assert [t.split(":")[0] for t in titles] == ["Lab case 1", "Lab case 2", "Lab case 3", "Lab case 4"]
+    assert [s for s, _ in result.collisions()] == [103, 103, 76, 126]
+    assert sum(line.startswith("summary: ") for line in result.lines) == 4
+
+
+def test_the_lab_demos_are_the_labs_four_cases_in_order() -> None:
+    assert LAB_DEMOS == ("aabb3d", "spheres", "circle-line", "sphere-plane")
+    assert demo_names()[:4] == list(LAB_DEMOS)
+    assert set(demo_names()) == set(EXAMPLE_NAMES)
+
+
+def test_demo_list_names_every_demo() -> None:
+    result = run_cli(["demo", "--list"])
+    assert result.status == 0
+    assert [line.split()[0] for line in result.lines] == demo_names()
+
+
+# --- options --------------------------------------------------------------------------------------
+def test_steps_overrides_the_scenario() -> None:
+    # the circle meets the line at step 76: not within 50 steps
+    result = run_cli(["run", example("circle-line"), "--steps", "50"])
+    assert result.status == 0
+    assert result.collisions() == []
+    assert "summary: 0 collisions in 50 steps" in result.out
+
+
+def test_dt_overrides_the_scenario() -> None:
+    # dt = 0.02: y = 2.01 - 0.04 k <= 0.5 first at k = 38 (37.75 is not a step): t = 0.76 s again
+    result = run_cli(["run", example("circle-line"), "--dt", "0.02"])
+    assert result.collisions() == [(38, "circle hits line")]
+    assert "collision at step 38 (t = 0.760 s): circle hits line" in result.lines
+
+
+def test_every_prints_every_kth_step_and_the_last() -> None:
+    result = run_cli(["run", example("circle-line"), "--every", "40"])
+    rows = [line.split()[0] for line in result.lines if line[:6].strip().isdigit()]
+    assert rows == ["0", "40", "80", "120", "150"]
+    assert result.collisions() == [(76, "circle hits line")]  # events are never skipped
+
+
+def test_every_step_is_printed_by_default_as_an_aligned_table() -> None:
+    result = run_cli(["run", example("sphere-plane")])
+    header = next(line for line in result.lines if line.lstrip().startswith("step"))
+    rows = [line for line in result.lines if line[:6].strip().isdigit()]
+    assert [int(r.split()[0]) for r in rows] == list(range(201))
+    assert header.split() == ["step", "t", "(s)", "ball.x", "ball.y", "ball.z"]
+    assert {len(r) for r in rows} == {len(header)}
+    assert rows[1].split()[1:] == ["0.0100", "0.0100", "2.9900", "0.0050"]  # x += v dt
+
+
+def test_quiet_prints_collisions_and_summary_only() -> None:
+    result = run_cli(["run", example("sphere-plane"), "--quiet"])
+    assert not any(line[:6].strip().isdigit() for line in result.lines)
+    assert result.collisions() == [(126, "ball hits floor")]
+    assert any(line.startswith("summary:") for line in result.lines)
+
+
+def test_csv_has_a_header_and_a_row_per_printed_step() -> None:
+    result = run_cli(["run", example("spheres"), "--format", "csv", "--every", "50"])
+    lines = result.lines
+    assert lines[0].split(",")[:8] == ["step", "time", "sphere A.x", "sphere A.y", "sphere A.z", "sphere A.vx",
+                                       "sphere A.vy", "sphere A.vz"]
+    assert [line.split(",")[0] for line in lines[1:]] == ["0", "50", "100", "150", "200"]
+    assert all(len(line.split(",")) == 14 for line in lines)
+
+
+def test_json_has_frames_events_and_summary_with_3_element_vectors() -> None:
+    data = run_cli(["run", example("circle-line"), "--format", "json"]).json()
+    assert {"frames", "events", "summary"} <= set(data)
+    frame = data["frames"][76]
+    assert set(frame) == {"step", "time", "bodies"} and frame["step"] == 76
+    body = frame["bodies"][0]
+    assert body["name"] == "circle" and len(body["position"]) == 3 and len(body["velocity"]) == 3
+    (event,) = data["events"]
+    assert {"step", "time", "bodies", "normal", "velocities_after"} <= set(event)
+    assert data["summary"]["collisions"] == 1
+    assert close(data["summary"]["momentum_start"], (1, -2, 0)) and close(data["summary"]["momentum_end"], (1, 1.6, 0))
+    # KE 0.5 * (1 + 4) = 2.5 J before, 0.5 * (1 + 2.56) = 1.78 J after
+    assert math.isclose(data["summary"]["kinetic_energy_start"], 2.5)
+    assert math.isclose(data["summary"]["kinetic_energy_end"], 1.78)
+
+
+def test_json_of_several_scenarios_is_a_list() -> None:
+    data = run_cli(["demo", "--format", "json", "--every", "100"]).json()
+    assert [d["title"].split(":")[0] for d in data] == ["Lab case 1", "Lab case 2", "Lab case 3", "Lab case 4"]
+
+
+def test_two_body_events_carry_both_velocities() -> None:
+    (event,) = events("head-on")
+    assert set(event["velocities_after"]) == {"light", "heavy"}
+
+
+# --- exit statuses ----------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run"],
+        ["demo", "--steps", "0"],
+        ["demo", "--steps", "x"],
+        ["demo", "--dt", "nan"],
+        ["demo", "--dt", "-0.1"],
+        ["demo", "--dt", "inf"],
+        ["demo", "--every", "0"],
+        ["demo", "--format", "xml"],
+        ["demo", "--bogus"],
+        ["demo", "no-such-demo"],
+        ["frobnicate"],
+        ["run", "a.toml", "b.toml"],
+    ],
+)
+def test_bad_command_line_usage_exits_2_with_a_message_on_stderr(argv: list[str]) -> None:
+    result = run_cli(argv)
+    assert result.status == 2
+    assert result.out == ""
+    assert result.err.strip() and "Traceback" not in result.err
+
+
+def test_help_exits_0() -> None:
+    result = run_cli(["run", "--help"])
+    assert result.status == 0
+    assert "--every" in result.out and "--output" in result.out
+
+
+def test_an_invalid_scenario_file_exits_65_naming_file_and_field(tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text('[[body]]\nshape = "sphere"\nposition = [0, 0, 0]\nradius = -1\n')
+    result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert str(path) in result.err and "body[0].radius" in result.err and "> 0" in result.err
+
+
+# --- --output is written atomically --------------------------------------------------------------
+def test_output_writes_the_file_and_nothing_to_stdout(tmp_path: Path) -> None:
+    target = tmp_path / "out.csv"
+    result = run_cli(["run", example("circle-line"), "--format", "csv", "--output", str(target)])
+    assert result.status == 0
+    assert result.out == ""
+    assert target.read_text() == run_cli(["run", example("circle-line"), "--format", "csv"]).out
+    assert files_in(tmp_path) == ["out.csv"]
+
+
+def test_output_replaces_an_existing_file(tmp_path: Path) -> None:
+    target = tmp_path / "out.txt"
+    target.write_text("old")
+    assert run_cli(["demo", "spheres", "--quiet", "--output", str(target)]).status == 0
+    assert target.read_text().startswith("Lab case 2")
+
+
+def test_a_bad_scenario_leaves_an_existing_output_untouched(tmp_path: Path) -> None:
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[simulation]\ncolour = 1\n")
+    target = tmp_path / "out.txt"
+    target.write_text("precious")
+    result = run_cli(["run", str(bad), "--output", str(target)])
+    assert result.status == 65
+    assert target.read_text() == "precious"
+    assert files_in(tmp_path) == ["bad.toml", "out.txt"]
+
+
+def test_a_run_interrupted_before_writing_leaves_no_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import collisionlab.cli.run_command as run_command
+
+    def interrupted(*_: object) -> None:
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(run_command.ProgressBar, "__call__", interrupted)
+    target = tmp_path / "out.json"
+    result = run_cli(["demo", "--format", "json", "--output", str(target)])
+    assert result.status == 130
+    assert files_in(tmp_path) == []
+
+
+def test_a_write_interrupted_at_the_last_moment_leaves_no_temporary_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import collisionlab.cli.atomic as atomic
+
+    def interrupted(*_: object) -> None:
+        raise KeyboardInterrupt  # after the temporary file is written, before it replaces the target
+
+    monkeypatch.setattr(atomic.os, "replace", interrupted)
+    target = tmp_path / "out.txt"
+    target.write_text("precious")
+    result = run_cli(["demo", "spheres", "--output", str(target)])
+    assert result.status == 130
+    assert target.read_text() == "precious"
+    assert files_in(tmp_path) == ["out.txt"]
+
+
+def test_an_unwritable_output_exits_1_with_a_message(tmp_path: Path) -> None:
+    target = tmp_path / "no such folder" / "out.txt"
+    result = run_cli(["demo", "spheres", "--output", str(target)])
+    assert result.status == 1
+    assert "no such folder" in result.err and "Traceback" not in result.err
+    assert files_in(tmp_path) == []
+
+
+# --- the real console script ----------------------------------------------------------------------
+def test_the_console_script_runs_the_demo() -> None:
+    process = subprocess.run([str(SCRIPT), "demo", "--quiet"], capture_output=True, text=True, timeout=60,
+                             stdin=subprocess.DEVNULL, check=False)
+    assert process.returncode == 0, process.stderr
+    assert "collision at step 126 (t = 1.260 s): ball hits floor" in process.stdout
+
+
+def test_python_dash_m_runs_the_same_command_line(tmp_path: Path) -> None:
+    process = subprocess.run(
+        [sys.executable, "-m", "collisionlab", "run", example("circle-line"), "--format", "json", "--every", "150"],
+        capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL, check=False, cwd=tmp_path,
+    )
+    assert process.returncode == 0, process.stderr
+    assert '"step": 76' in process.stdout
+
+
+def test_the_console_script_reports_bad_data_with_65_and_no_traceback(tmp_path: Path) -> None:
+    bad = tmp_path / "nan.toml"
+    bad.write_text('[[body]]\nshape = "sphere"\nposition = [0, nan, 0]\nradius = 1\n')
+    process = subprocess.run([str(SCRIPT), "run", str(bad)], capture_output=True, text=True, timeout=60,
+                             stdin=subprocess.DEVNULL, check=False)
+    assert process.returncode == 65
+    assert "body[0].position" in process.stderr and "Traceback" not in process.stderr
+
+
+def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: Path) -> None:
+    # A terminal on stdin makes the run draw its progress bar (after a second): once it shows, the
+    # run is under way; Ctrl-C then must leave neither the output file nor a temporary one.
+    master, slave = pty.openpty()
+    target = tmp_path / "out.txt"
+    process = subprocess.Popen(
+        [str(SCRIPT), "demo", "spheres", "--steps", "100000000", "--quiet", "--output", str(target)],
+        stdin=slave, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path, close_fds=True,
+    )
+    os.close(slave)
+    try:
+        assert process.stderr is not None
+        read_until(process.stderr.fileno(), b"/100000000")
+        process.send_signal(signal.SIGINT)
+        status, err = finish(process)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+        os.close(master)
+    assert status == 130
+    assert b"Traceback" not in err
+    assert files_in(tmp_path) == []

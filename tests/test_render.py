@@ -1,0 +1,180 @@
+"""The text forms of a run (cli/render.py): the lab's aligned table with collision lines and the
+summary, CSV and JSON. Records come from small scenarios whose numbers are easy by hand."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import re
+
+import pytest
+
+from collisionlab.cli.render import render, render_csv, render_json, render_table
+from collisionlab.model import Body, Obstacle, Scenario, Settings
+from collisionlab.record import RunRecord
+from collisionlab.shapes import Circle, Line, Plane, Sphere
+from collisionlab.world import simulate
+
+
+def drop() -> RunRecord:
+    """A ball r = 0.5 at y = 0.96 falling at 1 m/s onto the floor, dt = 0.1, e = 0.5:
+    y = 0.96 - 0.1 k first <= 0.5 at k = 5 (4.6 rounded up; away from a boundary, so rounding
+    cannot move it); lab eq. 24: v' = (0, -1, 0) - 1.5 (-1) (0, 1, 0) = (0, 0.5, 0)."""
+    ball = Body("ball", Sphere((0, 0.96, 0), 0.5), velocity=(0, -1, 0))
+    floor = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
+    return simulate(Scenario(Settings(dt=0.1, steps=10, restitution=0.5), (ball,), (floor,), "drop"))
+
+
+def head_on() -> RunRecord:
+    """Circles r = 0.5 at x = 0 and 1.5, closing at 2 m/s, dt = 0.1: gap 0.5 - 0.2 k <= 0 at k = 3
+    (2.5 is not a step). Equal masses, e = 1: they swap velocities, (1, 0) <-> (-1, 0)."""
+    a = Body("left", Circle((0, 0), 0.5), velocity=(1, 0))
+    b = Body("right", Circle((1.5, 0), 0.5), velocity=(-1, 0))
+    return simulate(Scenario(Settings(dt=0.1, steps=6), (a, b), (), "pair"))
+
+
+def rows(text: str) -> list[str]:
+    return [line for line in text.splitlines() if line[:6].strip().isdigit()]
+
+
+def test_the_drop_is_what_the_hand_says() -> None:
+    (event,) = drop().events
+    assert event.step == 5 and event.velocities_after["ball"].as_tuple() == (0.0, 0.5, 0.0)
+
+
+def test_table_has_a_title_a_header_a_row_per_step_and_the_collision_after_its_step() -> None:
+    text = render_table(drop())
+    lines = text.splitlines()
+    assert lines[0] == "drop  (dt = 0.1 s, 10 steps, mode euler)"
+    assert lines[1].split() == ["step", "t", "(s)", "ball.x", "ball.y", "ball.z"]
+    assert [int(r.split()[0]) for r in rows(text)] == list(range(11))
+    row5 = next(r for r in rows(text) if r.split()[0] == "5")
+    where = lines.index(row5)
+    assert lines[where + 1] == "collision at step 5 (t = 0.500 s): ball hits floor"
+    assert lines[where + 2] == "  velocity after: ball = (0.000, 0.500, 0.000) m/s"
+    assert lines[where + 3].split()[0] == "6"
+
+
+def test_table_columns_are_aligned() -> None:
+    text = render_table(drop())
+    header = text.splitlines()[1]
+    table = [header, *rows(text)]
+    assert {len(line) for line in table} == {len(header)}
+    # right-aligned columns: every cell of every row ends where its heading ends ("t (s)" is one heading)
+    ends = [m.end() for m in re.finditer(r"\S+", header) if m.group() != "t"]
+    assert len(ends) == 5
+    for line in table[1:]:
+        assert [m.end() for m in re.finditer(r"\S+", line)] == ends, line
+
+
+def test_table_values_are_the_positions_of_every_step() -> None:
+    text = render_table(drop())
+    row = rows(text)[3].split()  # after 3 steps: t = 0.3 s, y = 0.96 - 0.3 = 0.66
+    assert row == ["3", "0.3000", "0.0000", "0.6600", "0.0000"]
+
+
+def test_two_body_events_show_both_velocities() -> None:
+    text = render_table(head_on())
+    assert "collision at step 3 (t = 0.300 s): left and right collide" in text
+    assert "  velocities after: left = (-1.000, 0.000), right = (1.000, 0.000) m/s" in text
+    assert text.splitlines()[1].split() == ["step", "t", "(s)", "left.x", "left.y", "right.x", "right.y"]
+
+
+def test_summary_gives_collisions_momentum_and_kinetic_energy_at_start_and_end() -> None:
+    text = render_table(drop())
+    lines = text.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("summary: "))
+    assert lines[start] == "summary: 1 collision in 10 steps (1.000 s, mode euler)"
+    # p = m v: (0, -1, 0) before, (0, 0.5, 0) after; KE 0.5 * 1 = 0.5 J before, 0.5 * 0.25 = 0.125 J after
+    assert lines[start + 1].split() == ["momentum", "start", "(0.000,", "-1.000,", "0.000)", "kg", "m/s", "end",
+                                        "(0.000,", "0.500,", "0.000)", "kg", "m/s"]
+    assert lines[start + 2].split() == ["kinetic", "energy", "start", "0.5", "J", "end", "0.125", "J"]
+
+
+def test_summary_counts_in_plural() -> None:
+    assert "summary: 1 collision in 6 steps" in render_table(head_on())
+    none = simulate(Scenario(Settings(dt=0.1, steps=2), (Body("b", Circle((0, 5), 1), velocity=(1, 0)),),
+                             (Obstacle("l", Line((0, 0), (1, 0))),)))
+    assert "summary: 0 collisions in 2 steps" in render_table(none)
+
+
+def test_every_and_quiet() -> None:
+    record = drop()
+    assert [r.split()[0] for r in rows(render_table(record, every=4))] == ["0", "4", "8", "10"]
+    quiet = render_table(record, quiet=True)
+    assert rows(quiet) == []
+    assert "collision at step 5 (t = 0.500 s): ball hits floor" in quiet
+    assert "summary: 1 collision" in quiet
+
+
+def test_every_never_hides_a_collision() -> None:
+    text = render_table(drop(), every=3)  # step 5 is not printed, its collision is
+    assert "collision at step 5" in text
+    lines = text.splitlines()
+    assert lines.index("collision at step 5 (t = 0.500 s): ball hits floor") > lines.index(rows(text)[1])
+
+
+def test_restitution_above_one_warns_in_the_table() -> None:
+    ball = Body("ball", Sphere((0, 1, 0), 0.5), velocity=(0, -1, 0))
+    floor = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
+    record = simulate(Scenario(Settings(dt=0.1, steps=10, restitution=1.5), (ball,), (floor,)))
+    assert any(line.startswith("warning: restitution 1.5 > 1") for line in render_table(record).splitlines())
+
+
+def test_csv() -> None:
+    parsed = list(csv.reader(io.StringIO(render_csv(drop(), every=5))))
+    assert parsed[0] == ["step", "time", "ball.x", "ball.y", "ball.z", "ball.vx", "ball.vy", "ball.vz"]
+    assert [r[0] for r in parsed[1:]] == ["0", "5", "10"]
+    last = [float(x) for x in parsed[-1]]
+    assert last[0] == 10 and math.isclose(last[1], 1.0) and last[6] == 0.5  # moving up at 0.5 m/s
+
+
+def test_csv_numbers_are_exact() -> None:
+    record = drop()
+    parsed = list(csv.reader(io.StringIO(render_csv(record))))
+    assert float(parsed[4][3]) == record.frames[3].bodies[0].position.y  # repr: nothing rounded
+
+
+def test_json_has_the_documented_shape() -> None:
+    data = json.loads(render_json(head_on()))
+    assert {"frames", "events", "summary"} <= set(data)
+    for frame in data["frames"]:
+        assert set(frame) == {"step", "time", "bodies"}
+        for body in frame["bodies"]:
+            assert set(body) == {"name", "position", "velocity"}
+            assert len(body["position"]) == 3 and len(body["velocity"]) == 3  # 3 elements even in 2D
+    (event,) = data["events"]
+    assert event["step"] == 3 and event["bodies"] == ["left", "right"]
+    assert len(event["normal"]) == 3 and math.isclose(event["normal"][0], 1.0)
+    assert event["velocities_after"] == {"left": [-1.0, 0.0, 0.0], "right": [1.0, 0.0, 0.0]}
+    summary = data["summary"]
+    assert summary["collisions"] == 1
+    assert summary["momentum_start"] == [0.0, 0.0, 0.0] and summary["momentum_end"] == [0.0, 0.0, 0.0]
+    assert summary["kinetic_energy_start"] == 1.0 and summary["kinetic_energy_end"] == 1.0
+
+
+def test_json_static_events_list_only_the_moving_body() -> None:
+    (event,) = json.loads(render_json(drop()))["events"]
+    assert event["bodies"] == ["floor", "ball"]
+    assert list(event["velocities_after"]) == ["ball"]
+
+
+def test_json_every_keeps_every_kth_frame_and_the_last() -> None:
+    data = json.loads(render_json(drop(), every=4))
+    assert [f["step"] for f in data["frames"]] == [0, 4, 8, 10]
+    assert len(data["events"]) == 1
+
+
+@pytest.mark.parametrize(("fmt", "function"), [("table", render_table), ("csv", render_csv), ("json", render_json)])
+def test_render_dispatches_on_the_format(fmt: str, function: object) -> None:
+    record = drop()
+    assert render(record, fmt) == function(record)  # type: ignore[operator]
+
+
+def test_explain_shows_the_working() -> None:
+    text = render_table(drop(), explain=True)
+    # v_n = (v_ball - 0) . n = -1; j = -(1 + 0.5)(-1) / (0 + 1/1) = 1.5
+    assert "v_n = (v_ball - v_floor) . n = -1.0000 m/s" in text
+    assert "= 1.5000 N s" in text
