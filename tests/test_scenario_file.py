@@ -110,7 +110,7 @@ def test_a_bad_scenario_file_exits_65_naming_the_file_and_the_field(
 
 def test_a_missing_file_is_reported_without_a_traceback(tmp_path: Path) -> None:
     result = run_cli(["run", str(tmp_path / "nowhere.toml")])
-    assert result.status == 65  # reported as unusable scenario data, naming the file
+    assert result.status == 1  # not bad data but a failure to read: "other failure", naming the file
     assert "nowhere.toml" in result.err and "cannot be read" in result.err
 
 

@@ -15,7 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .errors import InvalidInputError
+from .errors import CollisionLabError, InvalidInputError
 from .model import Body, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive
@@ -189,7 +189,8 @@ def load_scenario(path: str | Path) -> Scenario:
     try:
         text = Path(path).read_text(encoding="utf-8")
     except OSError as error:
-        raise ScenarioError(source, "file", f"cannot be read: {error.strerror or error}") from None
+        # Not bad data but a missing or unreadable file: an "other failure" (exit status 1).
+        raise CollisionLabError(f"{source}: cannot be read: {error.strerror or error}") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
