@@ -22,8 +22,9 @@ lint: $(STAMP)
 	$(BIN)/ruff check src tests bench
 	$(BIN)/mypy
 
-## Lint, type-check and the whole test suite.
+## Lint, type-check and the whole test suite (the browser test needs Debian's chromium: installed here).
 test: lint
+	bash tests/setup_browser.sh
 	$(BIN)/python -m pytest
 
 bench: $(STAMP)

@@ -3,6 +3,7 @@ resting contact, and the conservation ledger (issues 3 and 4)."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
@@ -157,7 +158,7 @@ def test_free_two_body_collisions_conserve_momentum(m_a, m_b, vx, offset, e, mod
     a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(vx, 0, 0), mass=m_a)
     b = Body("b", Sphere((3, offset, 0.1), 0.5), velocity=(-1, 0, 0), mass=m_b)
     dt = 0.001 if mode == "euler" else 0.01
-    record = simulate(_scenario([a, b], dt=dt, steps=int(round(4 / dt / (vx + 1))) + 50, restitution=e, mode=mode))
+    record = simulate(_scenario([a, b], dt=dt, steps=round(4 / dt / (vx + 1)) + 50, restitution=e, mode=mode))
     assert len(record.events) == 1
     p0, p1 = record.ledger.momentum_start, record.ledger.momentum_end
     assert (p1 - p0).length() <= 1e-12 * p0.length() + 1e-15
@@ -196,7 +197,7 @@ def test_exact_bounce_heights_follow_e_squared_then_rest():
     assert record.events[0].time == pytest.approx(math.sqrt(2 * (h0 - r) / g), rel=1e-12)
     assert ups[0] == pytest.approx(e * math.sqrt(2 * g * (h0 - r)), rel=1e-12)
     heights = [u * u / (2 * g) for u in ups if u > REST_SPEED]
-    for first, second in zip(heights, heights[1:], strict=False):
+    for first, second in itertools.pairwise(heights):
         assert second / first == pytest.approx(e * e, rel=1e-9)
     # time between bounces is the flight time 2u/g of the parabola: exact, not stepped
     for ev1, ev2 in zip(record.events[:5], record.events[1:6], strict=False):

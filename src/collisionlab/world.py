@@ -31,11 +31,11 @@ from dataclasses import dataclass
 from .contact import Separation
 from .model import Body, Obstacle, Scenario
 from .narrowphase import separation
-from .record import BodyState, CollisionEvent, Frame, Ledger, RunRecord, SkippedContact
+from .record import BodyState, CollisionEvent, Frame, RunRecord, SkippedContact
 from .resolution import impulse_magnitude
 from .shapes import AABB, Circle, Shape, Sphere
-from .tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED
 from .toi import Impact, time_of_impact
+from .tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED
 from .vector import Vector3D
 
 __all__ = ["MAX_IMPACTS_PER_STEP", "World", "simulate"]
