@@ -141,48 +141,89 @@ class Case:
 
 
 CASES: list[Case] = [
-    Case("AABB in 3D", [
-        *_two_bodies("box", "aabb", 3, ("0 0 0", "1 1 1", "1 0 0", "3.05 0.2 0.1", "1 1 1", "-1 0 0")),
-        *_common("1", "0.01", "200"),
-    ], "aabb", None),
-    Case("sphere and sphere", [
-        *_two_bodies("sphere", "sphere", 3, ("0 0 0", "0.5", "1 0 0", "3 0.3 0", "0.5", "-1 0 0")),
-        *_common("1", "0.01", "200"),
-    ], "sphere", None),
-    Case("circle and line", [
-        *_body("the circle", "a", 2, "circle", "0 2.01", "0.5", "1 -2"),
-        Question("line.direction", "direction of the line", "dx dy, two numbers, not both 0", "1 0", _direction(2)),
-        Question("line.point", "a point on the line", "x y, two numbers", "0 0", _vector(2)),
-        *_common("0.8", "0.01", "150"),
-    ], "circle", "line"),
-    Case("sphere and plane", [
-        *_body("the sphere", "a", 3, "sphere", "0 3.01 0", "0.5", "1 -2 0.5"),
-        Question("p1", "first point on the plane", "x y z, three numbers", "0 0 0", _vector(3)),
-        Question("p2", "second point on the plane", "x y z, three numbers", "0 0 1", _vector(3)),
-        Question("p3", "third point on the plane", "x y z, not on the line through the first two", "1 0 0",
-                 _third_point),
-        *_common("0.8", "0.01", "200"),
-    ], "sphere", "plane"),
-    Case("circle and circle", [
-        *_two_bodies("circle", "circle", 2, ("0 0", "0.5", "1 0", "3 0.4", "0.5", "-1 0")),
-        *_common("1", "0.01", "200"),
-    ], "circle", None),
-    Case("AABB in 2D", [
-        *_two_bodies("box", "aabb", 2, ("0 0", "1 1", "1 0", "3.05 0.3", "1 1", "-1 0")),
-        *_common("1", "0.01", "200"),
-    ], "aabb", None),
-    Case("sphere and a fixed box", [
-        *_body("the sphere", "a", 3, "sphere", "-3 0.5 0", "0.5", "2 0 0"),
-        Question("box.position", "centre of the fixed box", "x y z, three numbers", "0 0 0", _vector(3)),
-        Question("box.size", "extent of the fixed box", "edge lengths along x y z, > 0", "2 2 2", _size(3)),
-        *_common("0.9", "0.01", "200"),
-    ], "sphere", "aabb"),
-    Case("circle and a fixed box", [
-        *_body("the circle", "a", 2, "circle", "-3 0.8", "0.5", "3 0"),
-        Question("box.position", "centre of the fixed box", "x y, two numbers", "0 0", _vector(2)),
-        Question("box.size", "extent of the fixed box", "edge lengths along x y, > 0", "2 2", _size(2)),
-        *_common("0.9", "0.01", "150"),
-    ], "circle", "aabb"),
+    Case(
+        "AABB in 3D",
+        [
+            *_two_bodies("box", "aabb", 3, ("0 0 0", "1 1 1", "1 0 0", "3.05 0.2 0.1", "1 1 1", "-1 0 0")),
+            *_common("1", "0.01", "200"),
+        ],
+        "aabb",
+        None,
+    ),
+    Case(
+        "sphere and sphere",
+        [
+            *_two_bodies("sphere", "sphere", 3, ("0 0 0", "0.5", "1 0 0", "3 0.3 0", "0.5", "-1 0 0")),
+            *_common("1", "0.01", "200"),
+        ],
+        "sphere",
+        None,
+    ),
+    Case(
+        "circle and line",
+        [
+            *_body("the circle", "a", 2, "circle", "0 2.01", "0.5", "1 -2"),
+            Question("line.direction", "direction of the line", "dx dy, two numbers, not both 0", "1 0", _direction(2)),
+            Question("line.point", "a point on the line", "x y, two numbers", "0 0", _vector(2)),
+            *_common("0.8", "0.01", "150"),
+        ],
+        "circle",
+        "line",
+    ),
+    Case(
+        "sphere and plane",
+        [
+            *_body("the sphere", "a", 3, "sphere", "0 3.01 0", "0.5", "1 -2 0.5"),
+            Question("p1", "first point on the plane", "x y z, three numbers", "0 0 0", _vector(3)),
+            Question("p2", "second point on the plane", "x y z, three numbers", "0 0 1", _vector(3)),
+            Question(
+                "p3", "third point on the plane", "x y z, not on the line through the first two", "1 0 0", _third_point
+            ),
+            *_common("0.8", "0.01", "200"),
+        ],
+        "sphere",
+        "plane",
+    ),
+    Case(
+        "circle and circle",
+        [
+            *_two_bodies("circle", "circle", 2, ("0 0", "0.5", "1 0", "3 0.4", "0.5", "-1 0")),
+            *_common("1", "0.01", "200"),
+        ],
+        "circle",
+        None,
+    ),
+    Case(
+        "AABB in 2D",
+        [
+            *_two_bodies("box", "aabb", 2, ("0 0", "1 1", "1 0", "3.05 0.3", "1 1", "-1 0")),
+            *_common("1", "0.01", "200"),
+        ],
+        "aabb",
+        None,
+    ),
+    Case(
+        "sphere and a fixed box",
+        [
+            *_body("the sphere", "a", 3, "sphere", "-3 0.5 0", "0.5", "2 0 0"),
+            Question("box.position", "centre of the fixed box", "x y z, three numbers", "0 0 0", _vector(3)),
+            Question("box.size", "extent of the fixed box", "edge lengths along x y z, > 0", "2 2 2", _size(3)),
+            *_common("0.9", "0.01", "200"),
+        ],
+        "sphere",
+        "aabb",
+    ),
+    Case(
+        "circle and a fixed box",
+        [
+            *_body("the circle", "a", 2, "circle", "-3 0.8", "0.5", "3 0"),
+            Question("box.position", "centre of the fixed box", "x y, two numbers", "0 0", _vector(2)),
+            Question("box.size", "extent of the fixed box", "edge lengths along x y, > 0", "2 2", _size(2)),
+            *_common("0.9", "0.01", "150"),
+        ],
+        "circle",
+        "aabb",
+    ),
 ]
 
 
@@ -201,13 +242,15 @@ def _scenario_data(case: Case, answers: Answers) -> dict[str, Any]:
     bodies = [body("a", f"{noun} A"), body("b", f"{noun} B")] if two else [body("a", noun)]
     statics: list[dict[str, Any]] = []
     if case.static_shape == "line":
-        statics.append({"name": "line", "shape": "line", "point": answers["line.point"],
-                        "direction": answers["line.direction"]})
+        statics.append(
+            {"name": "line", "shape": "line", "point": answers["line.point"], "direction": answers["line.direction"]}
+        )
     elif case.static_shape == "plane":
         statics.append({"name": "plane", "shape": "plane", "points": [answers["p1"], answers["p2"], answers["p3"]]})
     elif case.static_shape == "aabb":
-        statics.append({"name": "box", "shape": "aabb", "position": answers["box.position"],
-                        "size": answers["box.size"]})
+        statics.append(
+            {"name": "box", "shape": "aabb", "position": answers["box.position"], "size": answers["box.size"]}
+        )
     simulation = {k: answers[k] for k in ("dt", "steps", "restitution", "mode")}
     simulation["title"] = f"Menu: {case.title}"
     return {"simulation": simulation, "body": bodies, "static": statics}
@@ -248,6 +291,22 @@ class _Dialogue:
                 return True
             self.streams.out("  ! answer y or n")
 
+    def save(self, what: str, default: str, write: Callable[[str], None]) -> str:
+        """Ask for a file name and write it; a name that cannot be written (a missing folder, no
+        permission, a wrong extension) prints the reason and is asked again: the run is kept."""
+        while True:
+            path = self.ask(f"{what} [{default}]: ") or default
+            try:
+                write(path)
+            except OSError as error:
+                self.streams.out(f"  ! cannot write {path}: {error.strerror or error}; try again")
+                continue
+            except InvalidInputError as error:
+                self.streams.out(f"  ! {error.problem}; try again")
+                continue
+            self.streams.out(f"wrote {path}")
+            return path
+
     def choose_case(self) -> Case:
         self.streams.out("Which case?")
         for number, case in enumerate(CASES, start=1):
@@ -275,19 +334,14 @@ def run_menu(streams: Streams) -> int:
         bar.close()
     streams.stdout.write(render_table(record))
     if dialogue.yes("save a plot?"):
-        path = dialogue.ask("plot file [collision.png]: ") or "collision.png"
-        from .. import plotting
+        from .. import plotting  # matplotlib loads only when a picture is asked for
 
-        plotting.save_plot(record, scenario, path)
-        streams.out(f"wrote {path}")
+        dialogue.save("plot file", "collision.png", lambda path: plotting.save_plot(record, scenario, path))
     if dialogue.yes("save these answers as a scenario file?"):
-        while True:
-            path = dialogue.ask("scenario file [scenario.toml]: ") or "scenario.toml"
-            try:
-                write_text_atomically(path, lambda: scenario_to_toml(scenario))
-            except OSError as error:  # a missing folder or no permission: ask again, keep the answers
-                streams.out(f"  ! cannot write {path}: {error.strerror or error}; try again")
-                continue
-            streams.out(f"wrote {path}; run it again with: collisionlab run {path}")
-            break
+        path = dialogue.save(
+            "scenario file",
+            "scenario.toml",
+            lambda path: write_text_atomically(path, lambda: scenario_to_toml(scenario)),
+        )
+        streams.out(f"run it again with: collisionlab run {path}")
     return 0
