@@ -302,7 +302,7 @@ def test_the_saved_scenario_file_loads_and_runs_to_the_same_events(case: int, tm
     path = tmp_path / "answers.toml"
     result = run_cli(["menu"], defaults(case, "n", "y", str(path)))
     assert result.status == 0, result.err
-    assert f"wrote {path}; run it again with: collisionlab run {path}" in result.out
+    assert f"wrote {path}\nrun it again with: collisionlab run {path}" in result.out
     assert files_in(tmp_path) == ["answers.toml"]  # no temporary file left beside it
     rerun = run_cli(["run", str(path)])
     assert rerun.status == 0, rerun.err
@@ -439,3 +439,15 @@ def test_the_menu_subcommand_reads_answers_from_a_pipe() -> None:
     )
     assert process.returncode == 0, process.stderr
     assert "collision at step 103 (t = 1.030 s): box A and box B collide" in process.stdout
+
+
+def test_a_plot_file_that_cannot_be_written_is_asked_again(tmp_path: Path) -> None:
+    # Case 3 on defaults, then "save a plot? y": a missing folder and a wrong extension are
+    # refused with a reason and asked again; the third name is written.
+    good = tmp_path / "plot.png"
+    answers = ["3", *[""] * 9, "y", str(tmp_path / "missing" / "p.png"), str(tmp_path / "p.txt"), str(good), "n"]
+    result = run_cli(["menu"], typed(*answers))
+    assert result.status == 0, result.err
+    assert result.out.count("try again") >= 2
+    assert good.exists() and good.stat().st_size > 0
+    assert not (tmp_path / "p.txt").exists()
