@@ -352,7 +352,7 @@ def test_a_run_interrupted_before_writing_leaves_no_file(tmp_path: Path, monkeyp
 def test_a_write_interrupted_at_the_last_moment_leaves_no_temporary_file(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import collisionlab.cli.atomic as atomic
+    import collisionlab.atomic as atomic
 
     def interrupted(*_: object) -> None:
         raise KeyboardInterrupt  # after the temporary file is written, before it replaces the target
@@ -423,3 +423,15 @@ def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: 
     assert status == 130
     assert b"Traceback" not in err
     assert files_in(tmp_path) == []
+
+
+@pytest.mark.parametrize(
+    "flag, name", [("--plot", "p.txt"), ("--animate", "a.png"), ("--html", "missing/h.html")]
+)
+def test_a_bad_picture_path_fails_before_the_run(tmp_path: Path, flag: str, name: str) -> None:
+    # The path is checked first: status 2, one line naming the flag, and nothing simulated or printed.
+    result = run_cli(["demo", "spheres", flag, str(tmp_path / name)])
+    assert result.status == 2
+    assert result.out == ""
+    assert result.err.startswith(f"collisionlab: {flag}: ") and len(result.err.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []

@@ -9,13 +9,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from ..atomic import write_text_atomically
 from ..errors import InvalidInputError
 from ..scenario_file import parse_scenario, scenario_to_toml
 from ..shapes import Plane
 from ..validate import finite_number, non_negative, positive, whole_number
 from ..vector import Vector3D
 from ..world import World
-from .atomic import write_text_atomically
 from .progress import ProgressBar
 from .render import render_table
 from .streams import Streams

@@ -7,12 +7,12 @@ import math
 from pathlib import Path
 from typing import Any
 
+from ..atomic import write_text_atomically
 from ..demos import LAB_DEMOS, demo_names, load_demo
 from ..model import Scenario
 from ..record import RunRecord
 from ..scenario_file import load_scenario
 from ..world import World
-from .atomic import write_text_atomically
 from .progress import ProgressBar
 from .render import render
 from .streams import Streams
@@ -121,6 +121,10 @@ def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, s
 
 def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Streams) -> int:
     """Apply the flags to each scenario, run it, and print or write the output."""
+    if args.plot or args.animate or args.html:
+        from .. import plotting  # matplotlib and plotly load only when a picture is asked for
+
+        plotting.check_paths(args.plot, args.animate, args.html)  # fail now, not after the run
     overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
     texts: list[str] = []
     records: list[RunRecord] = []

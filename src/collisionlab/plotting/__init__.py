@@ -19,8 +19,15 @@ extension raises :class:`~collisionlab.errors.InvalidInputError` naming the opti
 
 from __future__ import annotations
 
-from .animation import save_animation
-from .html import save_html
-from .static import save_plot
+from .animation import check_animation_path, save_animation
+from .html import check_html_path, save_html
+from .static import check_plot_path, save_plot
 
-__all__ = ["save_animation", "save_html", "save_plot"]
+__all__ = ["check_paths", "save_animation", "save_html", "save_plot"]
+
+
+def check_paths(plot: str | None = None, animate: str | None = None, html: str | None = None) -> None:
+    """Check the picture paths before a run, so a bad one fails at once, not after the run."""
+    for path, check in ((plot, check_plot_path), (animate, check_animation_path), (html, check_html_path)):
+        if path is not None:
+            check(path)

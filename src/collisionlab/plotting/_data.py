@@ -2,16 +2,13 @@
 
 Nothing here simulates: positions, velocities and times come from the record's frames, masses
 and shapes from the scenario that produced it. Also the shared helpers: frame thinning, the
-extent of the action, the geometry of each shape, and writing a file atomically.
+extent of the action, the geometry of each shape, and checking output paths.
 """
 
 from __future__ import annotations
 
 import math
-import os
-import tempfile
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -31,7 +28,6 @@ __all__ = [
     "Array",
     "Bounds",
     "RunArrays",
-    "atomic_output",
     "box_corners",
     "box_edges",
     "check_path",
@@ -309,19 +305,3 @@ def check_path(path: str, option: str, suffixes: Sequence[str], form: str) -> Pa
     if target.is_dir():
         raise InvalidInputError(option, f"is a folder; expected {form}", got=path)
     return target
-
-
-@contextmanager
-def atomic_output(target: Path) -> Iterator[Path]:
-    """A temporary path beside ``target`` (same extension) to write to; on success it replaces
-    ``target`` in one step, on failure it is removed and ``target`` is left as it was."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".tmp{target.suffix}", dir=target.parent or ".")
-    os.close(fd)
-    tmp_path = Path(tmp)
-    try:
-        yield tmp_path
-        os.chmod(tmp_path, 0o644)  # mkstemp makes it private; a picture is an ordinary file
-        os.replace(tmp_path, target)
-    except BaseException:
-        tmp_path.unlink(missing_ok=True)
-        raise

@@ -31,11 +31,12 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 from PIL import Image
 
+from ..atomic import atomic_path
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle
-from ._data import Array, RunArrays, atomic_output, box_edges, check_path, sphere_mesh, thin_indices
+from ._data import Array, RunArrays, box_edges, check_path, sphere_mesh, thin_indices
 from .static import EVENT_COLOR, _check_size, body_color, draw_obstacles, m3, setup_view
 
 __all__ = ["DEFAULT_ANIMATION_SIZE", "DEFAULT_FRAMES", "render_frames", "save_animation"]
@@ -228,6 +229,15 @@ def _frame_ms(record: RunRecord, count: int) -> int:
     return int(round(min(max(per_frame, 30.0), 200.0) / 10.0) * 10)
 
 
+def check_animation_path(path: str) -> Path:
+    """``path`` if the animation can be written there (``.mp4`` needs ffmpeg), else
+    ``InvalidInputError("--animate", ...)``."""
+    target = check_path(path, "--animate", (".gif", ".mp4"), _FORM)
+    if target.suffix.lower() == ".mp4" and shutil.which("ffmpeg") is None:
+        raise InvalidInputError("--animate", "FILE.mp4 needs ffmpeg, which is not installed; use FILE.gif", got=path)
+    return target
+
+
 def save_animation(
     record: RunRecord,
     scenario: Scenario,
@@ -241,17 +251,15 @@ def save_animation(
     :data:`DEFAULT_FRAMES`, fewer for a short run); ``size`` = (width, height) pixels, default
     :data:`DEFAULT_ANIMATION_SIZE`. Written whole or not at all; a bad path, extension or frame
     count raises ``InvalidInputError("--animate", ...)``."""
-    target = check_path(path, "--animate", (".gif", ".mp4"), _FORM)
+    target = check_animation_path(path)
     ffmpeg = shutil.which("ffmpeg")
-    if target.suffix.lower() == ".mp4" and ffmpeg is None:
-        raise InvalidInputError("--animate", "FILE.mp4 needs ffmpeg, which is not installed; use FILE.gif", got=path)
     if frames is not None and (isinstance(frames, bool) or not isinstance(frames, int) or not 1 <= frames <= 10000):
         raise InvalidInputError("--animate", "the frame count must be a whole number from 1 to 10000", got=frames)
     width, height = _check_size(size or DEFAULT_ANIMATION_SIZE, "--animate")
     images = render_frames(record, scenario, frames, (width, height))
     count = min(DEFAULT_FRAMES, len(record.frames)) if frames is None else frames
     ms = _frame_ms(record, count)
-    with atomic_output(target) as tmp:
+    with atomic_path(target) as tmp:
         if target.suffix.lower() == ".gif":
             _write_gif(images, tmp, ms)
         else:

@@ -25,11 +25,13 @@ from __future__ import annotations
 import html
 import json
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import plotly.graph_objects as go
 
+from ..atomic import atomic_path
 from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane
@@ -38,7 +40,6 @@ from ._data import (
     MAX_LABELLED_EVENTS,
     Array,
     RunArrays,
-    atomic_output,
     box_corners,
     box_edges,
     check_path,
@@ -300,10 +301,15 @@ def _embedded_data(run: RunArrays) -> str:
     return text.replace("</", "<\\/")
 
 
+def check_html_path(path: str) -> Path:
+    """``path`` if the page can be written there, else ``InvalidInputError("--html", ...)``."""
+    return check_path(path, "--html", (".html", ".htm"), "FILE.html in an existing folder")
+
+
 def save_html(record: RunRecord, scenario: Scenario, path: str) -> None:
     """Save the interactive page of a run (see the module's docstring) to ``path`` (``.html``).
     Written whole or not at all; a bad path raises ``InvalidInputError("--html", ...)``."""
-    target = check_path(path, "--html", (".html", ".htm"), "FILE.html in an existing folder")
+    target = check_html_path(path)
     fig, run = build_figure(record, scenario)
     page = fig.to_html(
         include_plotlyjs=True, full_html=True, auto_play=False, div_id="collisionlab-plot",
@@ -315,5 +321,5 @@ def save_html(record: RunRecord, scenario: Scenario, path: str) -> None:
     block = f'<script type="application/json" id="{DATA_ELEMENT_ID}">{_embedded_data(run)}</script>'
     head, tail = page.rsplit("</body>", 1)
     page = f"{head}{block}\n</body>{tail}"
-    with atomic_output(target) as tmp:
+    with atomic_path(target) as tmp:
         tmp.write_text(page, encoding="utf-8")

@@ -16,6 +16,7 @@ one already labelled.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -28,6 +29,7 @@ from matplotlib.patches import Patch, Rectangle
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from numpy.typing import NDArray
 
+from ..atomic import atomic_path
 from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
@@ -36,7 +38,6 @@ from ._data import (
     Array,
     Bounds,
     RunArrays,
-    atomic_output,
     box_edges,
     check_path,
     line_segment,
@@ -300,14 +301,19 @@ def draw_figure(record: RunRecord, scenario: Scenario, size: tuple[int, int] = D
     return fig
 
 
+def check_plot_path(path: str) -> Path:
+    """``path`` if a plot can be written there, else ``InvalidInputError("--plot", ...)``."""
+    return check_path(path, "--plot", (".png", ".svg", ".pdf"), "FILE.png (or .svg, .pdf) in an existing folder")
+
+
 def save_plot(record: RunRecord, scenario: Scenario, path: str, *, size: tuple[int, int] | None = None) -> None:
     """Save the picture of a run (see the module's docstring) to ``path``: ``.png`` (or ``.svg``,
     ``.pdf``), ``size`` = (width, height) pixels, default :data:`DEFAULT_SIZE`. The file is
     written whole or not at all. A bad path raises ``InvalidInputError("--plot", ...)``."""
-    target = check_path(path, "--plot", (".png", ".svg", ".pdf"), "FILE.png (or .svg, .pdf) in an existing folder")
+    target = check_plot_path(path)
     width, height = _check_size(size or DEFAULT_SIZE, "--plot")
     fig = draw_figure(record, scenario, (width, height))
-    with atomic_output(target) as tmp:
+    with atomic_path(target) as tmp:
         fig.savefig(tmp, format=target.suffix.lower().lstrip("."), dpi=_DPI)
 
 
