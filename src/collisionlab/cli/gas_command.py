@@ -1,0 +1,210 @@
+"""``collisionlab gas``: the many-body particle world on the benchmark's gas, with its speed.
+
+Thin: it parses, builds :func:`collisionlab.particles.gas_scenario`, times
+:meth:`~collisionlab.particles.ParticleWorld.step`, and prints (a table or one JSON object) and
+plots. No physics here.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import threading
+import time
+from typing import Any
+
+import numpy as np
+
+from ..atomic import atomic_path
+from ..errors import InvalidInputError
+from ..particles import BACKENDS, ParticleWorld, component_variance, gas_scenario, speed_pdf, warm_up
+from ..particles.scenarios import SPEED_DISTRIBUTIONS
+from ..validate import whole_number
+from .progress import SHOW_AFTER, ProgressBar
+from .streams import Streams
+
+__all__ = ["add_parser", "run"]
+
+_PROG = "collisionlab gas"
+#: Library field name -> the flag a user typed.
+_FLAGS = {
+    "n": "--n",
+    "dim": "--dim",
+    "steps": "--steps",
+    "seed": "--seed",
+    "restitution": "--restitution",
+    "gravity": "--gravity",
+    "speeds": "--speeds",
+    "backend": "--backend",
+    "plot": "--plot",
+}
+#: Seconds of warm-up before the note that the kernels are being compiled (as the progress bar).
+_QUIET_SECONDS = SHOW_AFTER
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+    """Add the ``gas`` subcommand to ``collisionlab``'s subparsers (sets ``func=run``)."""
+    parser = subparsers.add_parser(
+        "gas",
+        help="a gas of many balls in a box: speed, energy, and the Maxwell-Boltzmann speeds",
+        description=(
+            "Step N balls of radius 1 at area (volume) fraction 0.2 in a box, from a lattice with "
+            "seeded Gaussian velocities, each step moving a typical ball 0.1 radius, and report "
+            "the speed. With only --n, --dim and --steps this is the benchmark's scenario."
+        ),
+    )
+    parser.add_argument("--n", type=int, default=10_000, help="number of balls (default 10000)")
+    parser.add_argument("--dim", type=int, default=2, help="2 (discs) or 3 (spheres); default 2")
+    parser.add_argument("--steps", type=int, default=1000, help="steps to run (default 1000)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the velocities (default 0)")
+    parser.add_argument("--restitution", type=float, default=1.0, help="e, 0..1 (default 1: elastic)")
+    parser.add_argument(
+        "--gravity", type=float, default=0.0, help="acceleration along -y, radii per time unit^2 (default 0)"
+    )
+    parser.add_argument(
+        "--speeds", choices=SPEED_DISTRIBUTIONS, default="gaussian",
+        help="initial speeds: gaussian (Maxwell-Boltzmann already) or equal (watch them relax)",
+    )
+    parser.add_argument("--backend", choices=BACKENDS, default="auto", help="kernels: numba if installed")
+    parser.add_argument("--plot", metavar="FILE.png", help="write the speed distribution against Maxwell-Boltzmann")
+    parser.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar and no notes on stderr")
+    parser.set_defaults(func=run)
+
+
+def _warm_up(streams: Streams, notes: bool) -> None:
+    """Compile or load the kernels before timing; say so if it takes a while (first run only)."""
+    note = threading.Timer(
+        _QUIET_SECONDS, lambda: streams.err("compiling the particle kernels (first run only; cached after)...")
+    )
+    if notes:
+        note.start()
+    try:
+        warm_up()
+    finally:
+        note.cancel()
+
+
+def _check_plot_path(path: str) -> None:
+    folder = os.path.dirname(os.path.abspath(path))
+    if not path.lower().endswith(".png"):
+        raise InvalidInputError("plot", "must be a file name ending in .png", got=path)
+    if not os.path.isdir(folder):
+        raise InvalidInputError("plot", "its folder does not exist", got=folder)
+
+
+def _write_plot(path: str, start: np.ndarray[Any, Any], world: ParticleWorld) -> None:
+    """Histograms of the speeds at the start and at the end, and Maxwell-Boltzmann at the end's
+    temperature; written atomically (never half-written)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    end = world.velocities
+    speeds_end = np.sqrt(np.sum(end**2, axis=1))
+    speeds_start = np.sqrt(np.sum(start**2, axis=1))
+    top = float(max(speeds_end.max(), speeds_start.max()))
+    bins = np.linspace(0.0, top, 60).tolist()
+    curve_v = np.linspace(0.0, top, 400)
+    variance = component_variance(end)
+    figure = Figure(figsize=(8, 5), dpi=100)
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot()
+    axes.hist(speeds_start, bins=bins, density=True, histtype="step", color="0.6", label="speeds at the start")
+    axes.hist(speeds_end, bins=bins, density=True, alpha=0.6, color="tab:blue",
+              label=f"speeds after {world.steps_taken} steps")
+    axes.plot(curve_v, speed_pdf(curve_v, world.dim, variance), color="tab:red", lw=2,
+              label=f"Maxwell-Boltzmann, kT/m = {variance:.3g}")
+    # An equal-speed start is a spike that would flatten everything else: clip it, say so.
+    ceiling = 1.5 * float(max(np.histogram(speeds_end, bins=bins, density=True)[0].max(),
+                              speed_pdf(curve_v, world.dim, variance).max()))
+    if np.histogram(speeds_start, bins=bins, density=True)[0].max() > ceiling:
+        axes.set_ylim(0.0, ceiling)
+        axes.annotate("start: off scale", xy=(float(np.median(speeds_start)), ceiling), xytext=(6, -14),
+                      textcoords="offset points", ha="left", color="0.4")
+    axes.set_xlabel("speed (radii per time unit)")
+    axes.set_ylabel("probability density")
+    shape = "discs" if world.dim == 2 else "spheres"
+    axes.set_title(f"{world.n:,} {shape} in {world.dim}D, e = {world.restitution:g}")
+    axes.legend()
+    with atomic_path(path) as temporary:
+        figure.savefig(temporary, format="png")
+
+
+def _table(report: dict[str, Any]) -> list[str]:
+    shape = "discs" if report["dim"] == 2 else "spheres"
+    lines = [
+        f"{_PROG}: {report['n']:,} {shape} in {report['dim']}D, {report['steps']:,} steps "
+        f"(seed {report['seed']}, e = {report['restitution']:g}, gravity {report['gravity']:g}, "
+        f"dt = {report['dt']:.4g})",
+        f"  backend          {report['backend']}",
+        f"  stepping         {report['seconds']:.3f} s",
+        f"  body-steps/s     {report['body_steps_per_s'] / 1e6:.2f} million",
+        f"  collisions       {report['collisions']:,} between balls, {report['wall_collisions']:,} with walls",
+        f"  energy drift     {report['energy_drift']:.3e} (relative change of kinetic energy)",
+        f"  memory           {report['bytes_per_body']:.0f} bytes per ball",
+    ]
+    if report.get("plot"):
+        lines.append(f"  plot             {report['plot']}")
+    return lines
+
+
+def run(args: argparse.Namespace, streams: Streams) -> int:
+    """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure."""
+    notes = bool(streams.interactive) and not args.quiet
+    try:
+        steps = whole_number(args.steps, "steps")
+        if args.plot is not None:
+            _check_plot_path(args.plot)
+        scenario = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
+        world = scenario.world(restitution=args.restitution, gravity=args.gravity, backend=args.backend)
+    except InvalidInputError as err:
+        streams.err(f"{_PROG}: {_FLAGS.get(err.field, err.field)}: {err.problem}"
+                    + (f" (got {err.got!r})" if err.got is not None else ""))
+        return 2
+    except MemoryError:
+        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
+        return 1
+    if world.backend == "numba":
+        _warm_up(streams, notes)
+    start_velocities = scenario.velocities
+    energy_start = world.kinetic_energy()
+    bar = ProgressBar(streams, label="gas steps")
+    began = time.perf_counter()
+    try:
+        stepped = world.step(scenario.dt, steps, progress=bar if notes else None)
+    finally:
+        bar.close()
+    seconds = time.perf_counter() - began
+    energy_end = world.kinetic_energy()
+    report: dict[str, Any] = {
+        "n": world.n,
+        "dim": world.dim,
+        "steps": steps,
+        "seconds": seconds,
+        "body_steps_per_s": world.n * steps / seconds if seconds > 0 else None,
+        "collisions": stepped.body_collisions,
+        "wall_collisions": stepped.wall_collisions,
+        "energy_drift": (energy_end - energy_start) / energy_start if energy_start > 0 else 0.0,
+        "kinetic_energy_start": energy_start,
+        "kinetic_energy_end": energy_end,
+        "dt": scenario.dt,
+        "seed": args.seed,
+        "restitution": world.restitution,
+        "gravity": args.gravity,
+        "backend": world.backend,
+        "bytes_per_body": world.nbytes / world.n,
+    }
+    if args.plot is not None:
+        try:
+            _write_plot(args.plot, start_velocities, world)
+        except OSError as err:
+            streams.err(f"{_PROG}: --plot: cannot write {args.plot}: {err.strerror or err}")
+            return 1
+        report["plot"] = args.plot
+    if args.format == "json":
+        streams.out(json.dumps(report))
+    else:
+        for line in _table(report):
+            streams.out(line)
+    return 0
