@@ -13,8 +13,6 @@ __all__ = [
     "FALLBACK_NORMAL",
     "REST_SPEED",
     "SOLVER_MARGIN",
-    "TIME_EPSILON",
-    "TOI_SEPARATION",
 ]
 
 #: Dimensionless. Three plane points are collinear when the sine of the angle between the two
@@ -48,15 +46,7 @@ SOLVER_MARGIN: float = 2e-9
 #: is small so that the lab's constant-velocity cases are never affected.
 REST_SPEED: float = 1e-3
 
-#: Seconds. Two events closer in time than this within one step are treated as simultaneous
-#: by the exact (time of impact) stepper, and a remaining step shorter than this is finished
-#: without another search.
-TIME_EPSILON: float = 1e-12
 
-#: Metres. Time of impact targets a separation of this gap rather than exact touching, so
-#: that after moving to the time of impact the shapes are touching but not overlapping even
-#: after rounding (Box2D's ``b2_linearSlop`` plays the same role in ``b2TimeOfImpact``).
-TOI_SEPARATION: float = 1e-10
 
 #: Metres. A pair that has collided stays "in contact" (its next impulse is not a new impact
 #: and is not reported again) until its distance grows beyond this. It also decides when a body
