@@ -52,7 +52,7 @@ def test_gravity_and_restitution_change_the_energy() -> None:
         (["--n", "0"], "--n"),
         (["--dim", "4"], "--dim"),
         (["--steps", "0"], "--steps"),
-        (["--restitution", "1.5"], "--restitution"),
+        (["--restitution", "-0.5"], "--restitution"),
         (["--seed", "-3"], "--seed"),
         (["--plot", "speeds.txt"], "--plot"),
         (["--plot", "/no/such/folder/s.png"], "--plot"),
@@ -87,3 +87,10 @@ def test_progress_bar_only_on_a_terminal(
     status, _, err = run(["--n", "200", "--steps", "200", *(["--quiet"] if quiet else [])], interactive)
     assert status == 0
     assert ("200/200" in err) is drawn
+
+
+def test_restitution_above_one_is_allowed_with_a_warning_and_adds_energy() -> None:
+    status, out, err = run(["--n", "300", "--steps", "200", "--restitution", "1.5", "--format", "json"])
+    assert status == 0
+    assert "adds kinetic energy" in err
+    assert json.loads(out)["energy_drift"] > 0

@@ -435,3 +435,11 @@ def test_a_bad_picture_path_fails_before_the_run(tmp_path: Path, flag: str, name
     assert result.out == ""
     assert result.err.startswith(f"collisionlab: {flag}: ") and len(result.err.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("fmt", ["csv", "json"])
+def test_warnings_go_to_stderr_when_the_output_is_data(fmt: str) -> None:
+    result = run_cli(["demo", "sphere-plane", "--restitution", "1.2", "--format", fmt])
+    assert result.status == 0
+    assert "warning: restitution 1.2 > 1" in result.err
+    assert "warning" not in result.out

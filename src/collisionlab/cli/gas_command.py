@@ -9,16 +9,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import threading
 import time
 from typing import Any
 
-import numpy as np
-
-from ..atomic import atomic_path
 from ..errors import InvalidInputError
-from ..particles import BACKENDS, ParticleWorld, component_variance, gas_scenario, speed_pdf, warm_up
+from ..particles import BACKENDS, gas_scenario, warm_up
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
 from ..validate import whole_number
 from .progress import SHOW_AFTER, ProgressBar
@@ -58,7 +54,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     parser.add_argument("--dim", type=int, default=2, help="2 (discs) or 3 (spheres); default 2")
     parser.add_argument("--steps", type=int, default=1000, help="steps to run (default 1000)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the velocities (default 0)")
-    parser.add_argument("--restitution", type=float, default=1.0, help="e, 0..1 (default 1: elastic)")
+    parser.add_argument("--restitution", type=float, default=1.0, help="e >= 0 (default 1: elastic; > 1 adds energy)")
     parser.add_argument(
         "--gravity", type=float, default=0.0, help="acceleration along -y, radii per time unit^2 (default 0)"
     )
@@ -86,51 +82,6 @@ def _warm_up(streams: Streams, notes: bool) -> None:
         note.cancel()
 
 
-def _check_plot_path(path: str) -> None:
-    folder = os.path.dirname(os.path.abspath(path))
-    if not path.lower().endswith(".png"):
-        raise InvalidInputError("plot", "must be a file name ending in .png", got=path)
-    if not os.path.isdir(folder):
-        raise InvalidInputError("plot", "its folder does not exist", got=folder)
-
-
-def _write_plot(path: str, start: np.ndarray[Any, Any], world: ParticleWorld) -> None:
-    """Histograms of the speeds at the start and at the end, and Maxwell-Boltzmann at the end's
-    temperature; written atomically (never half-written)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    end = world.velocities
-    speeds_end = np.sqrt(np.sum(end**2, axis=1))
-    speeds_start = np.sqrt(np.sum(start**2, axis=1))
-    top = float(max(speeds_end.max(), speeds_start.max()))
-    bins = np.linspace(0.0, top, 60).tolist()
-    curve_v = np.linspace(0.0, top, 400)
-    variance = component_variance(end)
-    figure = Figure(figsize=(8, 5), dpi=100)
-    FigureCanvasAgg(figure)
-    axes = figure.add_subplot()
-    axes.hist(speeds_start, bins=bins, density=True, histtype="step", color="0.6", label="speeds at the start")
-    axes.hist(speeds_end, bins=bins, density=True, alpha=0.6, color="tab:blue",
-              label=f"speeds after {world.steps_taken} steps")
-    axes.plot(curve_v, speed_pdf(curve_v, world.dim, variance), color="tab:red", lw=2,
-              label=f"Maxwell-Boltzmann, kT/m = {variance:.3g}")
-    # An equal-speed start is a spike that would flatten everything else: clip it, say so.
-    ceiling = 1.5 * float(max(np.histogram(speeds_end, bins=bins, density=True)[0].max(),
-                              speed_pdf(curve_v, world.dim, variance).max()))
-    if np.histogram(speeds_start, bins=bins, density=True)[0].max() > ceiling:
-        axes.set_ylim(0.0, ceiling)
-        axes.annotate("start: off scale", xy=(float(np.median(speeds_start)), ceiling), xytext=(6, -14),
-                      textcoords="offset points", ha="left", color="0.4")
-    axes.set_xlabel("speed (radii per time unit)")
-    axes.set_ylabel("probability density")
-    shape = "discs" if world.dim == 2 else "spheres"
-    axes.set_title(f"{world.n:,} {shape} in {world.dim}D, e = {world.restitution:g}")
-    axes.legend()
-    with atomic_path(path) as temporary:
-        figure.savefig(temporary, format="png")
-
-
 def _table(report: dict[str, Any]) -> list[str]:
     shape = "discs" if report["dim"] == 2 else "spheres"
     lines = [
@@ -155,7 +106,9 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     try:
         steps = whole_number(args.steps, "steps")
         if args.plot is not None:
-            _check_plot_path(args.plot)
+            from ..plotting import check_plot_path  # matplotlib loads only when a plot is asked for
+
+            check_plot_path(args.plot)
         scenario = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
         world = scenario.world(restitution=args.restitution, gravity=args.gravity, backend=args.backend)
     except InvalidInputError as err:
@@ -165,6 +118,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     except MemoryError:
         streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
         return 1
+    if world.restitution > 1.0:
+        streams.err(f"warning: restitution {world.restitution:g} > 1: every collision adds kinetic energy")
     if world.backend == "numba":
         _warm_up(streams, notes)
     start_velocities = scenario.velocities
@@ -197,7 +152,9 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     }
     if args.plot is not None:
         try:
-            _write_plot(args.plot, start_velocities, world)
+            from ..plotting.speeds import save_speed_plot
+
+            save_speed_plot(args.plot, start_velocities, world)
         except OSError as err:
             streams.err(f"{_PROG}: --plot: cannot write {args.plot}: {err.strerror or err}")
             return 1

@@ -138,8 +138,13 @@ def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Stream
             bar.close()
         records.append(record)
         _pictures(record, scenario, args, streams, len(scenarios) > 1)
-        if args.format != "json":
+        if args.format == "table":
             texts.append(render(record, args.format, args.every, args.quiet, args.explain))
+        else:  # the table prints its warnings; CSV and JSON stay data, so warnings go to stderr
+            for warning in record.warnings:
+                streams.err(f"warning: {warning}")
+            if args.format == "csv":
+                texts.append(render(record, args.format, args.every))
     if args.format == "json":
         from .render import render_json
 

@@ -158,9 +158,7 @@ class ParticleWorld:
             raise InvalidInputError("velocities", f"must have {dim} columns like positions", got=vel.shape)
         rad = _per_body(radii, "radii", n)
         ima = 1.0 / _per_body(masses, "masses", n, allow_inf=True)
-        e = non_negative(restitution, "restitution")
-        if e > 1.0:
-            raise InvalidInputError("restitution", "must be between 0 and 1", got=e)
+        e = non_negative(restitution, "restitution")  # > 1 is allowed: it adds energy (postlab Q4)
         g = np.zeros(dim) if gravity is None else _vector(gravity, "gravity", dim)
         normals, offsets = self._walls(box, planes, dim, float(rad.max()))
         self._passes = whole_number(passes, "passes")

@@ -23,7 +23,15 @@ from .animation import check_animation_path, save_animation
 from .html import check_html_path, save_html
 from .static import check_plot_path, save_plot
 
-__all__ = ["check_paths", "save_animation", "save_html", "save_plot"]
+__all__ = [
+    "check_animation_path",
+    "check_html_path",
+    "check_paths",
+    "check_plot_path",
+    "save_animation",
+    "save_html",
+    "save_plot",
+]
 
 
 def check_paths(plot: str | None = None, animate: str | None = None, html: str | None = None) -> None:
