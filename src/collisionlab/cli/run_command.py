@@ -3,51 +3,49 @@
 from __future__ import annotations
 
 import argparse
-import math
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 from ..atomic import write_text_atomically
 from ..demos import LAB_DEMOS, demo_names, load_demo
+from ..errors import InvalidInputError
 from ..model import Scenario
 from ..record import RunRecord
 from ..scenario_file import load_scenario
+from ..validate import non_negative, positive, whole_number
 from ..world import World
 from .progress import ProgressBar
 from .render import render
 from .streams import Streams
 
-__all__ = ["add_run_parsers", "execute", "positive_float", "positive_int"]
+__all__ = ["add_run_parsers", "execute"]
+
+T = TypeVar("T")
 
 
-def positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number > 0, got {text!r}") from None
-    if not math.isfinite(value) or value <= 0.0:
-        raise argparse.ArgumentTypeError(f"expected a finite number > 0, got {text!r}")
-    return value
+def _flag_value(
+    check: Callable[[object, str], T], parse: Callable[[str], object] = float, form: str = "a number"
+) -> Callable[[str], T]:
+    """An argparse ``type=`` that parses the text and applies the library's own check, so a
+    flag and a scenario field refuse the same values with the same words."""
+
+    def convert(text: str) -> T:
+        try:
+            value = parse(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {form}, got {text!r}") from None
+        try:
+            return check(value, "value")
+        except InvalidInputError as error:
+            raise argparse.ArgumentTypeError(f"{error.problem}, got {text!r}") from None
+
+    return convert
 
 
-def positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
-    return value
-
-
-def non_negative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
-    if not math.isfinite(value) or value < 0.0:
-        raise argparse.ArgumentTypeError(f"expected a finite number >= 0, got {text!r}")
-    return value
+positive_float = _flag_value(positive)
+non_negative_float = _flag_value(non_negative)
+positive_int = _flag_value(whole_number, int, "a whole number >= 1")
 
 
 def _add_common(parser: argparse.ArgumentParser) -> None:
