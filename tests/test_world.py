@@ -241,3 +241,26 @@ def test_momentum_and_frames_shape():
     assert record.frames[-1].bodies[0].position == Vector3D(1.0, 0.0, 0.0) or record.frames[-1].bodies[
         0
     ].position.x == pytest.approx(1.0)
+
+
+def test_euler_grazing_impact_is_at_most_one_event():
+    # Centres pass at y offset 1.0 = r_a + r_b: at the closest step they touch (distance 0 at
+    # x-offset 0). A touch with no approach along the normal gets no impulse; never two events.
+    a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(1, 0, 0))
+    b = Body("b", Sphere((3, 1, 0), 0.5), velocity=(0, 0, 0))
+    record = simulate(_scenario([a, b], dt=0.01, steps=600))
+    assert len(record.events) <= 1
+    assert record.ledger.kinetic_end == pytest.approx(record.ledger.kinetic_start, rel=1e-12)
+
+
+def test_a_separating_overlap_is_skipped_and_said_why():
+    # Placed overlapping but moving apart: pushed apart, no impulse, and the skip is recorded
+    # with its reason for --explain.
+    a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(-1, 0, 0))
+    b = Body("b", Sphere((0.8, 0, 0), 0.5), velocity=(1, 0, 0))
+    record = simulate(_scenario([a, b], dt=0.01, steps=5))
+    assert record.events == []
+    assert [(s.step, s.bodies, s.reason) for s in record.skipped] == [(1, ("a", "b"), "separating")]
+    from collisionlab.cli.render import render_table
+
+    assert "contact a / b at step 1 (t = 0.010 s) skipped: separating" in render_table(record, explain=True)
