@@ -142,7 +142,7 @@ def test_gif_flashes_at_the_collision(runs: dict[str, tuple[RunRecord, Scenario]
 
 def test_mp4_needs_ffmpeg(runs: dict[str, tuple[RunRecord, Scenario]], tmp_path: Path,
                           monkeypatch: pytest.MonkeyPatch) -> None:  # fmt: skip
-    monkeypatch.setattr(animation_module.shutil, "which", lambda name: None)
+    monkeypatch.setattr(animation_module, "find_ffmpeg", lambda: None)
     record, scenario = runs["spheres"]
     with pytest.raises(InvalidInputError, match="ffmpeg") as info:
         save_animation(record, scenario, str(tmp_path / "a.mp4"))
@@ -150,7 +150,7 @@ def test_mp4_needs_ffmpeg(runs: dict[str, tuple[RunRecord, Scenario]], tmp_path:
     assert not (tmp_path / "a.mp4").exists()
 
 
-@pytest.mark.skipif(animation_module.shutil.which("ffmpeg") is None, reason="ffmpeg is not installed")
+@pytest.mark.skipif(animation_module.find_ffmpeg() is None, reason="no ffmpeg (install the 'video' extra)")
 def test_mp4_with_ffmpeg(runs: dict[str, tuple[RunRecord, Scenario]], tmp_path: Path) -> None:
     record, scenario = runs["spheres"]
     save_animation(record, scenario, str(tmp_path / "a.mp4"), frames=10, size=(320, 240))

@@ -15,6 +15,7 @@ no two frames are merged). It plays in real time, each frame shown 30 to 200 ms.
 
 from __future__ import annotations
 
+import contextlib
 import shutil
 import subprocess
 from collections.abc import Iterator
@@ -229,11 +230,27 @@ def _frame_ms(record: RunRecord, count: int) -> int:
     return int(round(min(max(per_frame, 30.0), 200.0) / 10.0) * 10)
 
 
+def find_ffmpeg() -> str | None:
+    """ffmpeg on the PATH, else the one the ``imageio-ffmpeg`` package ships (the ``video``
+    extra: ``pip install 'collisionlab[video]'``), else ``None``."""
+    found = shutil.which("ffmpeg")
+    if found is not None:
+        return found
+    try:
+        import imageio_ffmpeg  # optional; carries its own binary
+    except ImportError:
+        return None
+    try:
+        return str(imageio_ffmpeg.get_ffmpeg_exe())
+    except RuntimeError:
+        return None
+
+
 def check_animation_path(path: str) -> Path:
     """``path`` if the animation can be written there (``.mp4`` needs ffmpeg), else
     ``InvalidInputError("--animate", ...)``."""
     target = check_path(path, "--animate", (".gif", ".mp4"), _FORM)
-    if target.suffix.lower() == ".mp4" and shutil.which("ffmpeg") is None:
+    if target.suffix.lower() == ".mp4" and find_ffmpeg() is None:
         raise InvalidInputError("--animate", "FILE.mp4 needs ffmpeg, which is not installed; use FILE.gif", got=path)
     return target
 
@@ -252,7 +269,7 @@ def save_animation(
     :data:`DEFAULT_ANIMATION_SIZE`. Written whole or not at all; a bad path, extension or frame
     count raises ``InvalidInputError("--animate", ...)``."""
     target = check_animation_path(path)
-    ffmpeg = shutil.which("ffmpeg")
+    ffmpeg = find_ffmpeg()
     if frames is not None and (isinstance(frames, bool) or not isinstance(frames, int) or not 1 <= frames <= 10000):
         raise InvalidInputError("--animate", "the frame count must be a whole number from 1 to 10000", got=frames)
     width, height = _check_size(size or DEFAULT_ANIMATION_SIZE, "--animate")
@@ -282,15 +299,17 @@ def _write_mp4(images: Iterator[NDArray[np.uint8]], tmp: Path, ms: int, size: tu
         "-vcodec", "libx264", "-f", "mp4", str(tmp),
     ]  # fmt: skip
     process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    assert process.stdin is not None
+    assert process.stdin is not None and process.stderr is not None
     try:
         for rgb in images:
             process.stdin.write(rgb.tobytes())
-        process.stdin.close()
-    except BrokenPipeError:
+    except BrokenPipeError:  # ffmpeg stopped early: its message on stderr says why
         pass
     finally:
-        _, err = process.communicate()
+        with contextlib.suppress(BrokenPipeError):
+            process.stdin.close()
+        err = process.stderr.read()  # small: ffmpeg runs with -loglevel error
+        process.wait()
     if process.returncode != 0:
         last = err.decode(errors="replace").strip().splitlines()[-1:] or ["no message"]
         raise InvalidInputError("--animate", f"ffmpeg could not write the video: {last[0]}")
