@@ -142,9 +142,22 @@ def test_newtons_cradle() -> None:
         assert close(event["velocities_after"][second], (2, 0, 0))
 
 
+def test_stack() -> None:
+    # The upper ball falls 2.0 - 1.5 = 0.5 m onto the resting lower one: first impact at
+    # t = sqrt(2 * 0.5 / 9.81) = 0.3193 s, v = sqrt(2 * 9.81 * 0.5) = 3.1321 m/s, leaving at
+    # e * v = 1.5660; the lower ball stays on the floor (the floor takes the push).
+    found = events("stack")
+    first = found[0]
+    assert first["bodies"] == ["lower", "upper"]
+    assert first["time"] == pytest.approx(math.sqrt(2 * 0.5 / 9.81), rel=1e-9)
+    assert close(first["velocities_after"]["upper"], (0, 0.5 * math.sqrt(2 * 9.81 * 0.5), 0))
+    assert close(first["velocities_after"]["lower"], (0, 0, 0))
+    assert all(e["bodies"] == ["lower", "upper"] for e in found)
+
+
 def test_every_example_file_is_covered_above() -> None:
     covered = {"aabb3d", "spheres", "circle-line", "sphere-plane", "head-on", "circle-box", "ball-in-box",
-               "bouncing-ball", "newtons-cradle"}
+               "bouncing-ball", "newtons-cradle", "stack"}
     assert set(EXAMPLE_NAMES) == covered
 
 

@@ -264,3 +264,25 @@ def test_a_separating_overlap_is_skipped_and_said_why():
     from collisionlab.cli.render import render_table
 
     assert "contact a / b at step 1 (t = 0.010 s) skipped: separating" in render_table(record, explain=True)
+
+
+def test_exact_stack_of_two_balls_settles_without_sinking():
+    # The upper ball falls 0.5 m onto a ball resting on the floor, bounces with e = 0.5 and
+    # comes to rest on it: the floor takes the push through the lower ball (it cannot be pushed
+    # into its support), nothing sinks, and the energy lost is m g h = 1 * 9.81 * 0.5.
+    lower = Body("lower", Sphere((0, 0.5, 0), 0.5), velocity=(0, 0, 0))
+    upper = Body("upper", Sphere((0, 2.0, 0), 0.5), velocity=(0, 0, 0))
+    scenario = _scenario([lower, upper], [FLOOR], dt=0.01, steps=300, restitution=0.5, gravity=(0, -9.81, 0),
+                         mode="exact")
+    record = simulate(scenario)
+    assert all(e.bodies == ("lower", "upper") for e in record.events)  # the lower ball never leaves the floor
+    assert len(record.events) < 30
+    final = {b.name: b for b in record.frames[-1].bodies}
+    assert final["lower"].position.y == pytest.approx(0.5, abs=CONTACT_SLOP)
+    assert final["upper"].position.y == pytest.approx(1.5, abs=CONTACT_MARGIN)
+    assert final["upper"].velocity.length() <= REST_SPEED
+    for frame in record.frames:
+        lo, up = (b.position.y for b in frame.bodies)
+        assert lo >= 0.5 - CONTACT_SLOP and up - lo >= 1.0 - CONTACT_SLOP
+    assert record.ledger.energy_end - record.ledger.energy_start == pytest.approx(-9.81 * 0.5, rel=1e-9)
+    assert abs(record.ledger.push_apart) < 1e-9

@@ -15,9 +15,10 @@ With ``mode = "exact"`` nothing tunnels: within each step the world finds the ea
 impact among all pairs (:func:`~collisionlab.toi.time_of_impact`; the motion is exact, a
 parabola under gravity), moves every body to that moment, resolves that impact and goes on
 with the rest of the step, as many impacts as happen; then it pushes apart as in phase 4.
-A body lying on a static obstacle (within ``CONTACT_MARGIN``, approach slower than
-``REST_SPEED``, gravity pressing it on) rests: its normal velocity and the normal part of its
-acceleration are removed, so it neither sinks nor jitters.
+A body lying on a static obstacle or on another body (within ``CONTACT_MARGIN``, normal speed
+below ``REST_SPEED``, gravity pressing them together) rests: the approach is stopped and the
+pressing part of the acceleration is cancelled by the support, so it neither sinks nor jitters,
+and stacks settle from the bottom up.
 
 A collision is reported once per impact: a pair that collided stays "in contact" until its
 distance grows beyond ``CONTACT_MARGIN``, and further impulses meanwhile are not new events.
@@ -25,6 +26,7 @@ distance grows beyond ``CONTACT_MARGIN``, and further impulses meanwhile are not
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -56,6 +58,11 @@ class _Pair:
     static: bool
 
 
+def _stopping_impulse(normal_speed: float, inverse_mass_sum: float) -> float:
+    """The impulse that brings a relative normal speed to zero (e = 0)."""
+    return -normal_speed / inverse_mass_sum
+
+
 def _thickness(shape: Shape) -> float:
     """How far something must travel to pass through this shape (tunnelling check)."""
     if isinstance(shape, (Circle, Sphere)):
@@ -85,7 +92,10 @@ class World:
             for a, b in scenario.pairs()
         ]
         self._touching: set[_Pair] = set()
+        #: Unit normals of what each resting body lies on (exact mode; found each sub-step).
+        self._supports: dict[int, list[Vector3D]] = {}
         self._tunnel_warned = False
+        self._impact_limit_warned = False
         self.record = RunRecord(
             title=scenario.title,
             mode=settings.mode,
@@ -173,33 +183,24 @@ class World:
         an event if the pair was not already in contact, or if it arrives from a flight found by
         time of impact (``fresh``) faster than ``REST_SPEED``. Returns the approach speed
         ``v_n`` (< 0) when an impulse was applied, else ``None``."""
-        body_b = self.scenario.bodies[pair.b]
         va, vb = self._velocity_a(pair), self.velocities[pair.b]
         vn = (vb - va).dot(normal)
         if vn >= 0.0:
             if pair not in self._touching:
                 self.record.skipped.append(SkippedContact(self.step_index, time, self._names(pair), "separating"))
             return None
-        inverse_a = 0.0 if pair.static else 1.0 / self.scenario.bodies[pair.a].mass
-        inverse_b = 1.0 / body_b.mass
         below = -vn < REST_SPEED
         e = 0.0 if below else self._restitution(pair)
-        j = impulse_magnitude(vn, inverse_a + inverse_b, e)
         ke_before = self._pair_kinetic(pair)
-        va_after = va - normal * (j * inverse_a)
-        vb_after = vb + normal * (j * inverse_b)
-        if not pair.static:
-            self.velocities[pair.a] = va_after
-        self.velocities[pair.b] = vb_after
+        j, inverse_a, inverse_b = self._kick(pair, normal, lambda inverse_sum: impulse_magnitude(vn, inverse_sum, e))
+        va_after, vb_after = self._velocity_a(pair), self.velocities[pair.b]
         ke_after = self._pair_kinetic(pair)
-        ledger = self.record.ledger
-        ledger.collisions += ke_after - ke_before
-        ledger.collisions_predicted -= 0.5 * (1.0 - e * e) * vn * vn / (inverse_a + inverse_b)
+        self.record.ledger.collisions_predicted -= 0.5 * (1.0 - e * e) * vn * vn / (inverse_a + inverse_b)
         if pair not in self._touching or (fresh and not below):
             name_a, name_b = self._names(pair)
             before = {name_b: vb} if pair.static else {name_a: va, name_b: vb}
             after = {name_b: vb_after} if pair.static else {name_a: va_after, name_b: vb_after}
-            mass_a = float("inf") if pair.static else self.scenario.bodies[pair.a].mass
+            mass_a = 1.0 / inverse_a if inverse_a > 0.0 else float("inf")
             self.record.events.append(
                 CollisionEvent(
                     step=self.step_index,
@@ -211,7 +212,7 @@ class World:
                     approach_speed=vn,
                     impulse=j,
                     restitution=e,
-                    masses=(mass_a, body_b.mass),
+                    masses=(mass_a, 1.0 / inverse_b if inverse_b > 0.0 else float("inf")),
                     velocities_before=before,
                     velocities_after=after,
                     kinetic_energy_before=ke_before,
@@ -221,6 +222,33 @@ class World:
             )
             self._touching.add(pair)
         return vn
+
+    def _kick(self, pair: _Pair, normal: Vector3D, impulse: Callable[[float], float]) -> tuple[float, float, float]:
+        """Apply the impulse ``impulse(1/m_a + 1/m_b)`` along ``normal`` (A gets minus it), with
+        supports taking their share (:meth:`_response`); the kinetic energy it changes goes to
+        the ledger's collisions. Returns the impulse and the two inverse masses along the normal."""
+        ke_before = self._pair_kinetic(pair)
+        dir_a, inverse_a = (_ZERO, 0.0) if pair.static else self._response(pair.a, -normal)
+        dir_b, inverse_b = self._response(pair.b, normal)
+        j = impulse(inverse_a + inverse_b)
+        if not pair.static:
+            self.velocities[pair.a] = self.velocities[pair.a] + dir_a * (j / self.bodies[pair.a].mass)
+        self.velocities[pair.b] = self.velocities[pair.b] + dir_b * (j / self.bodies[pair.b].mass)
+        self.record.ledger.collisions += self._pair_kinetic(pair) - ke_before
+        return j, inverse_a, inverse_b
+
+    def _response(self, index: int, direction: Vector3D) -> tuple[Vector3D, float]:
+        """How body ``index`` answers an impulse along ``direction``: a body resting on a support
+        (exact mode) cannot be pushed into it, so the part of the push along the support's normal
+        goes to the support (an obstacle of infinite mass) and only the rest moves the body.
+        Returns the direction its velocity changes per unit impulse times mass, and its inverse
+        mass along ``direction`` (``1/m`` free, ``(1 - (s.d)^2)/m`` on a support ``s``)."""
+        moved = direction
+        for support in self._supports.get(index, ()):
+            into = moved.dot(support)
+            if into < 0.0:
+                moved = moved - support * into
+        return moved, moved.dot(direction) / self.bodies[index].mass
 
     def _pair_kinetic(self, pair: _Pair) -> float:
         indices = (pair.b,) if pair.static else (pair.a, pair.b)
@@ -301,7 +329,7 @@ class World:
         impacts = 0
         while True:
             self._forget_separated()
-            accelerations, resting = self._rest_on_obstacles(start + elapsed)
+            accelerations, resting = self._resting_contacts(start + elapsed)
             best: tuple[_Pair, Impact] | None = None
             for pair in self._pairs:
                 if pair in ignored or pair in resting:
@@ -318,10 +346,11 @@ class World:
                 if impact is not None and (best is None or impact.time < best[1].time):
                     best = (pair, impact)
             if best is None or impacts >= MAX_IMPACTS_PER_STEP:
-                if best is not None:
+                if best is not None and not self._impact_limit_warned:
+                    self._impact_limit_warned = True
                     self.record.warnings.append(
-                        f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index}: "
-                        "the rest of that step was integrated without them"
+                        f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index}: the rest of "
+                        "that step was integrated without them (said once; later steps may do the same)"
                     )
                 self._advance(remaining, accelerations)
                 break
@@ -353,32 +382,57 @@ class World:
         self.velocities = [v + a * duration for v, a in zip(self.velocities, accelerations, strict=True)]
         self.record.ledger.integrator += self.energy() - energy_before
 
-    def _rest_on_obstacles(self, time: float) -> tuple[list[Vector3D], set[_Pair]]:
-        """Bodies lying on a static obstacle, pressed on by gravity and moving along the normal
-        slower than ``REST_SPEED``: their normal velocity is removed (an e = 0 impulse) and the
-        normal part of their acceleration is cancelled by the support."""
+    def _resting_contacts(self, time: float) -> tuple[list[Vector3D], set[_Pair]]:
+        """Resting contacts under gravity, and the accelerations they leave.
+
+        A pair rests when it touches (distance <= ``CONTACT_MARGIN``), its normal velocity is
+        below ``REST_SPEED`` and its accelerations press it together. Then an approach is
+        stopped (an e = 0 impulse) and the support cancels the pressing part of the
+        acceleration: on a static obstacle the body's normal acceleration; between two bodies the
+        relative one, taken by the body that is not yet supported (or shared by inverse mass).
+        Passes repeat, so a stack settles from its support up (Gauss-Seidel on accelerations).
+        Resting pairs are left out of the time-of-impact search for that sub-step."""
         gravity = self.scenario.settings.gravity
         accelerations = [gravity] * len(self.bodies)
         resting: set[_Pair] = set()
         if gravity == _ZERO:
             return accelerations, resting
-        for pair in self._pairs:
-            if not pair.static:
-                continue
-            sep = self._separation(pair)
-            n = sep.normal  # from the obstacle to the body
-            a = accelerations[pair.b]
-            v = self.velocities[pair.b]
-            if sep.distance > CONTACT_MARGIN or a.dot(n) >= 0.0 or abs(v.dot(n)) > REST_SPEED:
-                continue
-            if v.dot(n) < 0.0:
-                self._resolve(pair, n, sep.point, time)
-            elif v.dot(n) > 0.0:
-                ke_before = self._pair_kinetic(pair)
-                self.velocities[pair.b] = v - n * v.dot(n)
-                self.record.ledger.collisions += self._pair_kinetic(pair) - ke_before
-            accelerations[pair.b] = a - n * a.dot(n)
-            resting.add(pair)
+        supported = [False] * len(self.bodies)
+        self._supports = {}
+        for _ in range(len(self.bodies) + 1):  # a stack of k bodies settles in k passes
+            changed = False
+            for pair in self._pairs:
+                sep = self._separation(pair)
+                n = sep.normal  # from A to B
+                if sep.distance > CONTACT_MARGIN:
+                    continue
+                vn = (self.velocities[pair.b] - self._velocity_a(pair)).dot(n)
+                a_a = _ZERO if pair.static else accelerations[pair.a]
+                pressing = (accelerations[pair.b] - a_a).dot(n)
+                if abs(vn) > REST_SPEED or pressing >= 0.0:
+                    continue
+                if vn < 0.0:  # a slow approach: e = 0 (below REST_SPEED), an event if it is new
+                    self._resolve(pair, n, sep.point, time)
+                elif vn > 0.0:  # a slow lift-off would float on with gravity cancelled: stop it
+                    self._kick(pair, n, functools.partial(_stopping_impulse, vn))
+                if pair.static or (supported[pair.a] and not supported[pair.b]):
+                    accelerations[pair.b] = accelerations[pair.b] - n * pressing
+                    supported[pair.b] = True
+                    self._supports.setdefault(pair.b, []).append(n)
+                elif supported[pair.b] and not pair.static and not supported[pair.a]:
+                    accelerations[pair.a] = accelerations[pair.a] + n * pressing
+                    supported[pair.a] = True
+                    self._supports.setdefault(pair.a, []).append(-n)
+                else:
+                    inverse_a = 1.0 / self.bodies[pair.a].mass
+                    inverse_b = 1.0 / self.bodies[pair.b].mass
+                    share = pressing / (inverse_a + inverse_b)
+                    accelerations[pair.a] = accelerations[pair.a] + n * (share * inverse_a)
+                    accelerations[pair.b] = accelerations[pair.b] - n * (share * inverse_b)
+                resting.add(pair)
+                changed = True
+            if not changed:
+                break
         return accelerations, resting
 
     # --- running -------------------------------------------------------------------------------

@@ -111,6 +111,9 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
     except OSError as error:
         streams.err(f"collisionlab: {error.filename or ''}: {error.strerror or error}")
         return EXIT_FAILURE
+    except Exception as error:  # a bug: still one line, no traceback, and a way to report it
+        streams.err(f"collisionlab: unexpected error: {type(error).__name__}: {error} (please report this)")
+        return EXIT_FAILURE
 
 
 def entry_point() -> None:
