@@ -58,6 +58,15 @@ class _Pair:
     static: bool
 
 
+def _boxes_meet(boxes: list[tuple[Vector3D, Vector3D]], pair: _Pair) -> bool:
+    """The broad phase: two bodies can touch only if their (swept) boxes overlap; a pair with an
+    obstacle always goes on to the narrow phase (lines and planes are unbounded)."""
+    if pair.static:
+        return True
+    (low_a, high_a), (low_b, high_b) = boxes[pair.a], boxes[pair.b]
+    return not any(ha < lb or hb < la for la, ha, lb, hb in zip(low_a, high_a, low_b, high_b, strict=True))
+
+
 def _stopping_impulse(normal_speed: float, inverse_mass_sum: float) -> float:
     """The impulse that brings a relative normal speed to zero (e = 0)."""
     return -normal_speed / inverse_mass_sum
@@ -94,6 +103,8 @@ class World:
         self._touching: set[_Pair] = set()
         #: Unit normals of what each resting body lies on (exact mode; found each sub-step).
         self._supports: dict[int, list[Vector3D]] = {}
+        #: Bodies whose velocity an impulse changed since this was last cleared (exact mode).
+        self._kicked: set[int] = set()
         self._tunnel_warned = False
         self._impact_limit_warned = False
         self.record = RunRecord(
@@ -170,10 +181,9 @@ class World:
         given = [e for e in overrides if e is not None]
         return max(given) if given else self.scenario.settings.restitution
 
-    def _forget_separated(self, pairs: list[_Pair] | None = None) -> None:
-        for pair in list(self._touching) if pairs is None else pairs:
-            if pair in self._touching and self._separation(pair).distance > CONTACT_MARGIN:
-                self._touching.discard(pair)
+    def _forget_separated(self) -> None:
+        """Pairs that have moved apart beyond ``CONTACT_MARGIN`` are no longer in contact."""
+        self._touching = {pair for pair in self._touching if self._separation(pair).distance <= CONTACT_MARGIN}
 
     # --- resolution ----------------------------------------------------------------------------
     def _resolve(
@@ -231,7 +241,9 @@ class World:
         dir_a, inverse_a = (_ZERO, 0.0) if pair.static else self._response(pair.a, -normal)
         dir_b, inverse_b = self._response(pair.b, normal)
         j = impulse(inverse_a + inverse_b)
+        self._kicked.add(pair.b)
         if not pair.static:
+            self._kicked.add(pair.a)
             self.velocities[pair.a] = self.velocities[pair.a] + dir_a * (j / self.bodies[pair.a].mass)
         self.velocities[pair.b] = self.velocities[pair.b] + dir_b * (j / self.bodies[pair.b].mass)
         self.record.ledger.collisions += self._pair_kinetic(pair) - ke_before
@@ -257,7 +269,10 @@ class World:
     def _push_apart(self) -> None:
         """Phase 4: every overlapping pair is moved apart to a gap of ``CONTACT_SLOP``."""
         energy_before = self.energy()
+        boxes = self._swept_boxes(0.0, [_ZERO] * len(self.bodies))
         for pair in self._pairs:
+            if not _boxes_meet(boxes, pair):
+                continue
             sep = self._separation(pair)
             if sep.distance >= 0.0:  # touching is not overlapping: nothing to undo
                 continue
@@ -294,11 +309,12 @@ class World:
         self.record.ledger.integrator += self.energy() - energy_before
         self.step_index += 1
         self.time = self.step_index * dt
-        # Phase 2: detect; phase 3: resolve, in the fixed pair order.
-        separations = [(pair, self._separation(pair)) for pair in self._pairs]
-        for pair, sep in separations:
-            if pair in self._touching and sep.distance > CONTACT_MARGIN:
-                self._touching.discard(pair)
+        # Phase 2: detect (boxes first: bodies whose boxes, grown by CONTACT_MARGIN, do not meet
+        # are farther apart than that); phase 3: resolve, in the fixed pair order.
+        boxes = self._swept_boxes(0.0, [_ZERO] * len(self.bodies))
+        separations = [(pair, self._separation(pair)) for pair in self._pairs if _boxes_meet(boxes, pair)]
+        near = {pair for pair, sep in separations if sep.distance <= CONTACT_MARGIN}
+        self._touching &= near
         for pair, sep in separations:
             if sep.distance <= 0.0:
                 self._resolve(pair, sep.normal, sep.point, self.time)
@@ -323,28 +339,34 @@ class World:
         settings = self.scenario.settings
         start = self.step_index * settings.dt
         self.step_index += 1  # events of this step carry its number, as in euler mode
-        remaining = settings.dt
         elapsed = 0.0
         ignored: set[_Pair] = set()
         impacts = 0
+        # Times of impact found this step, as (time from the step's start, impact): the motion
+        # between impacts is known exactly, so a pair stays valid until one of its bodies is
+        # kicked or its acceleration changes (event-driven stepping, as in molecular dynamics).
+        found: dict[_Pair, tuple[float, Impact] | None] = {}
+        previous: list[Vector3D] | None = None
         while True:
+            remaining = settings.dt - elapsed
             self._forget_separated()
+            self._kicked = set()
             accelerations, resting = self._resting_contacts(start + elapsed)
-            best: tuple[_Pair, Impact] | None = None
+            dirty = set(self._kicked)
+            if previous is not None:
+                dirty.update(i for i, (a, b) in enumerate(zip(accelerations, previous, strict=True)) if a != b)
+            previous = accelerations
+            boxes = self._swept_boxes(remaining, accelerations)
+            best: tuple[_Pair, float, Impact] | None = None
             for pair in self._pairs:
                 if pair in ignored or pair in resting:
+                    found.pop(pair, None)
                     continue
-                impact = time_of_impact(
-                    self._shape_a(pair),
-                    self.shape(pair.b),
-                    self._velocity_a(pair),
-                    self.velocities[pair.b],
-                    remaining,
-                    _ZERO if pair.static else accelerations[pair.a],
-                    accelerations[pair.b],
-                )
-                if impact is not None and (best is None or impact.time < best[1].time):
-                    best = (pair, impact)
+                if pair not in found or pair.b in dirty or (not pair.static and pair.a in dirty):
+                    found[pair] = self._time_of_impact(pair, remaining, accelerations, boxes, elapsed)
+                entry = found[pair]
+                if entry is not None and (best is None or entry[0] < best[1]):
+                    best = (pair, entry[0], entry[1])
             if best is None or impacts >= MAX_IMPACTS_PER_STEP:
                 if best is not None and not self._impact_limit_warned:
                     self._impact_limit_warned = True
@@ -354,20 +376,62 @@ class World:
                     )
                 self._advance(remaining, accelerations)
                 break
-            pair, impact = best
-            self._advance(impact.time, accelerations)
-            elapsed += impact.time
-            remaining -= impact.time
+            pair, when, impact = best
+            wait = max(0.0, when - elapsed)
+            self._advance(wait, accelerations)
+            elapsed += wait
             fresh = impact.time > 0.0 and not impact.initially_overlapping
+            self._kicked = set()
             vn = self._resolve(pair, impact.normal, self._separation(pair).point, start + elapsed, fresh)
             impacts += 1
+            found.pop(pair, None)
             if vn is None or -vn < REST_SPEED:
                 # Nothing to do, or a touch too slow to bounce (e = 0 applied): this pair is in
                 # resting contact; look at it again next step, so rounding cannot loop here.
                 ignored.add(pair)
             else:
                 ignored.clear()
+            for index in self._kicked:  # their pairs must be searched again
+                for other in [p for p in found if p.b == index or (not p.static and p.a == index)]:
+                    del found[other]
         self.time = self.step_index * settings.dt
+
+    def _swept_boxes(self, duration: float, accelerations: list[Vector3D]) -> list[tuple[Vector3D, Vector3D]]:
+        """Each body's bounding box over the next ``duration``: its shape's box at the start and
+        at the end, grown by ``|a| t^2 / 2`` (the parabola leaves its chord by at most ``|a| t^2 / 8``)."""
+        boxes = []
+        for index, (x, v, a) in enumerate(zip(self.positions, self.velocities, accelerations, strict=True)):
+            shape = self.scenario.bodies[index].shape
+            extent = shape.half_size if isinstance(shape, AABB) else Vector3D(shape.radius, shape.radius, shape.radius)
+            end = x + v * duration + a * (0.5 * duration * duration)
+            grow = extent + Vector3D(1.0, 1.0, 1.0) * (0.5 * a.length() * duration * duration + CONTACT_MARGIN)
+            low = Vector3D(min(x.x, end.x), min(x.y, end.y), min(x.z, end.z)) - grow
+            high = Vector3D(max(x.x, end.x), max(x.y, end.y), max(x.z, end.z)) + grow
+            boxes.append((low, high))
+        return boxes
+
+    def _time_of_impact(
+        self,
+        pair: _Pair,
+        remaining: float,
+        accelerations: list[Vector3D],
+        boxes: list[tuple[Vector3D, Vector3D]],
+        elapsed: float,
+    ) -> tuple[float, Impact] | None:
+        """The pair's first impact in the rest of the step, as (time from the step's start,
+        impact); two bodies whose swept boxes do not meet cannot collide (the broad phase)."""
+        if not _boxes_meet(boxes, pair):
+            return None
+        impact = time_of_impact(
+            self._shape_a(pair),
+            self.shape(pair.b),
+            self._velocity_a(pair),
+            self.velocities[pair.b],
+            remaining,
+            _ZERO if pair.static else accelerations[pair.a],
+            accelerations[pair.b],
+        )
+        return None if impact is None else (elapsed + impact.time, impact)
 
     def _advance(self, duration: float, accelerations: list[Vector3D]) -> None:
         """Exact motion under constant acceleration: ``x += v t + a t^2/2``, ``v += a t``."""
