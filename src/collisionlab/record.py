@@ -107,6 +107,9 @@ class Ledger:
     collisions: float = 0.0
     integrator: float = 0.0
     push_apart: float = 0.0
+    #: Metres: the deepest overlap the push-apart had to undo over the run (0 when no shapes
+    #: ever overlapped at the end of a step's motion; rounding-level in exact mode).
+    max_penetration: float = 0.0
     #: The loss predicted by theory for the collisions, sum of (1 - e^2)/2 * mu * v_n^2.
     collisions_predicted: float = 0.0
 
@@ -139,6 +142,7 @@ class Ledger:
                 "residual": self.residual,
             },
             "collisions_predicted": self.collisions_predicted,
+            "max_penetration": self.max_penetration,
         }
 
 

@@ -277,6 +277,7 @@ class World:
             if sep.distance >= 0.0:  # touching is not overlapping: nothing to undo
                 continue
             push = CONTACT_SLOP - sep.distance
+            self.record.ledger.max_penetration = max(self.record.ledger.max_penetration, -sep.distance)
             inverse_a = 0.0 if pair.static else 1.0 / self.bodies[pair.a].mass
             inverse_b = 1.0 / self.bodies[pair.b].mass
             total = inverse_a + inverse_b

@@ -95,6 +95,8 @@ def summary_lines(record: RunRecord) -> list[str]:
         f"(theory (1-e^2)/2 mu v_n^2: {ledger.collisions_predicted:+.6g}), integrator {ledger.integrator:+.6g}, "
         f"push-apart {ledger.push_apart:+.6g}, rounding {ledger.residual:+.2g}"
     )
+    if ledger.max_penetration > 0.0:
+        lines.append(f"  deepest overlap undone by push-apart: {ledger.max_penetration:.3g} m")
     return lines
 
 
