@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import os
 
 import pytest
 from hypothesis import given, settings
@@ -288,7 +289,7 @@ def test_exact_stack_of_two_balls_settles_without_sinking():
     assert abs(record.ledger.push_apart) < 1e-9
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=int(os.environ.get("COLLISIONLAB_EXAMPLES", "25")), deadline=None)
 @given(
     count=st.integers(2, 6),
     seed=st.integers(0, 10_000),
