@@ -13,8 +13,12 @@ Each step, in this order (``mode = "euler"``, the lab's part VI):
 
 With ``mode = "exact"`` nothing tunnels: within each step the world finds the earliest time of
 impact among all pairs (:func:`~collisionlab.toi.time_of_impact`; the motion is exact, a
-parabola under gravity), moves every body to that moment, resolves that impact and goes on
+parabola under gravity), moves every body to that moment, resolves that impact, settles the
+contacts it touches (sequential impulses over every touching pair until none approaches: a
+row of touching balls passes the impact along, a body driven against a wall stops), and goes on
 with the rest of the step, as many impacts as happen; then it pushes apart as in phase 4.
+Times of impact are kept until one of the pair's bodies is kicked (event-driven), and bodies
+whose swept boxes do not meet are not tested (the broad phase).
 A body lying on a static obstacle or on another body (within ``CONTACT_MARGIN``, normal speed
 below ``REST_SPEED``, gravity pressing them together) rests: the approach is stopped and the
 pressing part of the acceleration is cancelled by the support, so it neither sinks nor jitters,
