@@ -326,3 +326,60 @@ def test_bad_step_names_the_field(dt: float, steps: int, field: str) -> None:
     with pytest.raises(InvalidInputError) as caught:
         world.step(dt, steps)
     assert caught.value.field == field
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_one_step_equals_the_scalar_world(seed: int) -> None:
+    # The same scene in the scalar World (euler mode: Euler, detect, resolve, push apart, with
+    # Circle/Sphere bodies and Line/Plane walls) and in the ParticleWorld: one step agrees to 1e-12.
+    from collisionlab import Circle, Line, Plane, Sphere
+    from collisionlab.model import Body, Obstacle, Scenario, Settings
+    from collisionlab.tolerances import REST_SPEED
+    from collisionlab.world import World
+
+    rng = np.random.default_rng(seed)
+    dim = 2 + seed % 2
+    pos, vel, rad, mass = [], [], [], []
+    for k in range(3):  # three pairs far apart, each about to touch or just touching
+        centre = np.zeros(dim)
+        centre[0] = -20.0 + 20.0 * k
+        r = rng.uniform(0.3, 1.5, 2)
+        direction = rng.normal(size=dim)
+        direction /= np.linalg.norm(direction)
+        pos += [centre, centre + direction * rng.uniform(0.85, 1.05) * r.sum()]
+        vel += list(rng.uniform(-3.0, 3.0, (2, dim)))
+        rad += list(r)
+        mass += list(rng.uniform(0.2, 5.0, 2))
+    # and one ball at the floor y = -30
+    r0 = rng.uniform(0.3, 1.5)
+    spot = np.zeros(dim)
+    spot[1] = -30.0 + 0.9 * r0
+    pos.append(spot)
+    vel.append(rng.uniform(-3.0, 3.0, dim))
+    rad.append(r0)
+    mass.append(1.0)
+    pos_a, vel_a, rad_a, mass_a = np.array(pos), np.array(vel), np.array(rad), np.array(mass)
+    dt, e, g = 0.01, float(rng.choice([1.0, 0.6, 0.0])), np.array([0.0, -9.81, 0.0][:dim])
+    make = Circle if dim == 2 else Sphere
+    bodies = [Body(f"b{i}", make(tuple(p), r), velocity=tuple(v), mass=m)
+              for i, (p, v, r, m) in enumerate(zip(pos_a, vel_a, rad_a, mass_a, strict=True))]
+    if dim == 2:
+        walls = [Obstacle("floor", Line((0, -30), (1, 0))), Obstacle("ceiling", Line((0, 30), (1, 0))),
+                 Obstacle("left", Line((-30, 0), (0, 1))), Obstacle("right", Line((30, 0), (0, 1)))]
+    else:
+        walls = [Obstacle(f"w{k}{s}", Plane(tuple(np.eye(3)[k] * -30 * s), tuple(np.eye(3)[k] * s)))
+                 for k in range(3) for s in (1, -1)]
+    world = World(Scenario(Settings(dt=dt, steps=1, restitution=e, gravity=tuple(g)), tuple(bodies), tuple(walls)))
+    world.step()
+    approach = [abs(ev.approach_speed) for ev in world.record.events]
+    assert world.record.events or world.record.skipped, "the scene should hold at least one contact"
+    if any(a < 2 * REST_SPEED for a in approach):
+        pytest.skip("a contact slower than the scalar world's rest threshold (the gas has none)")
+    for backend in BACKENDS:
+        gas = ParticleWorld(pos_a, vel_a, rad_a, mass_a, box=((-30.0,) * dim, (30.0,) * dim),
+                            restitution=e, gravity=g, backend=backend)
+        gas.step(dt)
+        want_pos = np.array([list(x)[:dim] for x in world.positions])
+        want_vel = np.array([list(v)[:dim] for v in world.velocities])
+        np.testing.assert_allclose(gas.positions, want_pos, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(gas.velocities, want_vel, rtol=0, atol=1e-12)

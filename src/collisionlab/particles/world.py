@@ -7,7 +7,7 @@ inverse masses ``(n,)``. A step is, in this fixed order:
 2. broad phase on a uniform grid (:mod:`collisionlab.particles.broadphase`), narrow phase: two
    balls touch when ``|x_b - x_a| <= r_a + r_b``, a ball touches a wall ``n . x >= c`` when
    ``n . x - c <= r`` (Ericson, *Real-Time Collision Detection*, 4.3.1 and 5.2.2); the impulse
-   solver also gets pairs within ``CONTACT_MARGIN`` of touching (see tolerances.py: balls left
+   solver also gets pairs within ``SOLVER_MARGIN`` of touching (see tolerances.py: balls left
    ``CONTACT_SLOP`` apart by push-apart stay in contact, so a resting stack stays supported);
 3. the contacts are put in one order that depends on geometry only: deepest first, ties broken by
    positions (lexicographically), body pairs before wall contacts, then the wall's number;
