@@ -456,3 +456,10 @@ def test_warnings_go_to_stderr_when_the_output_is_data(fmt: str) -> None:
     assert result.status == 0
     assert "warning: restitution 1.2 > 1" in result.err
     assert "warning: " not in result.out  # (the JSON keeps them too, under "warnings")
+
+
+def test_version() -> None:
+    from collisionlab import __version__
+
+    result = run_cli(["--version"])
+    assert result.status == 0 and result.out.strip() == f"collisionlab {__version__}"

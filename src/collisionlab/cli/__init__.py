@@ -10,6 +10,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
+from .. import __version__
 from ..errors import CollisionLabError, InvalidInputError
 from ..scenario_file import ScenarioError
 from . import gas_command
@@ -59,6 +60,7 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
             "the lab's menu asks which case to simulate and its parameters."
         ),
     )
+    parser.add_argument("--version", action="version", version=f"collisionlab {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     menu = sub.add_parser("menu", help="the lab's interactive menu (also reads answers from a pipe)")
     menu.set_defaults(func=lambda args, streams: run_menu(streams))
