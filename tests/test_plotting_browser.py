@@ -35,10 +35,10 @@ from collisionlab.world import World
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 if CHROMIUM is None and os.environ.get("CI"):
-    # In CI the browser test must run, not skip: the test setup (make test) installs chromium.
+    # In CI the browser test must run, not skip: the test setup (python3 tasks.py test) installs chromium.
     raise RuntimeError("CI: chromium is missing; tests/setup_browser.sh should have installed it")
 pytestmark = pytest.mark.skipif(
-    CHROMIUM is None, reason="Debian's chromium is not installed: run tests/setup_browser.sh (make test does)"
+    CHROMIUM is None, reason="Debian's chromium is not installed: run tests/setup_browser.sh (tasks.py test does)"
 )
 
 FLAGS = [

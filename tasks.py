@@ -1,0 +1,73 @@
+#!/usr/bin/env python3
+"""Set up and run collisionlab with nothing but Python 3.11 and pip (``make`` is optional).
+
+    python3 tasks.py run     # a virtual environment in .venv, then the lab's four demos
+    python3 tasks.py test    # the same with the test tools, then ruff, mypy and pytest
+    python3 tasks.py bench   # the many-body benchmark against pymunk (bench/README.md)
+
+Each step is printed before it runs; the first failure stops with its exit status.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+VENV = ROOT / ".venv"
+BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
+PYTHON = BIN / ("python.exe" if os.name == "nt" else "python")
+STAMP = VENV / ".installed"
+
+
+def sh(*command: str | Path) -> None:
+    words = [str(word) for word in command]
+    print("+", " ".join(words), flush=True)
+    result = subprocess.run(words, cwd=ROOT, check=False)
+    if result.returncode != 0:
+        sys.exit(result.returncode)
+
+
+def setup(*extras: str) -> None:
+    """Create .venv and install the package with ``extras``, unless that is already done and
+    pyproject.toml has not changed since."""
+    wanted = set(extras)
+    done = set(STAMP.read_text().split()) if STAMP.exists() else None
+    fresh = done is not None and STAMP.stat().st_mtime >= (ROOT / "pyproject.toml").stat().st_mtime
+    if fresh and done is not None and wanted <= done:
+        return
+    if not PYTHON.exists():
+        sh(sys.executable, "-m", "venv", VENV)
+        sh(PYTHON, "-m", "pip", "install", "--quiet", "--upgrade", "pip")
+    target = f".[{','.join(sorted(wanted))}]" if wanted else "."
+    sh(PYTHON, "-m", "pip", "install", "--quiet", "-e", target)
+    STAMP.write_text(" ".join(sorted(wanted | (done if fresh and done else set()))) + "\n")
+
+
+def run() -> None:
+    setup()
+    sh(BIN / "collisionlab", "demo")
+
+
+def test() -> None:
+    setup("dev")
+    sh(BIN / "ruff", "check", "src", "tests", "bench", "tasks.py")
+    sh(BIN / "mypy")
+    sh("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
+    sh(PYTHON, "-m", "pytest")
+
+
+def bench() -> None:
+    setup("dev", "bench")
+    sh(PYTHON, "bench/bench_gas.py", *sys.argv[2:])
+
+
+TASKS = {"run": run, "test": test, "bench": bench}
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2 or sys.argv[1] not in TASKS:
+        print(f"usage: python3 tasks.py {{{'|'.join(TASKS)}}}", file=sys.stderr)
+        sys.exit(2)
+    TASKS[sys.argv[1]]()
