@@ -321,9 +321,11 @@ def main() -> None:
             return f"{result['rate'] / 1e6:10.3f} M" if result else f"{'-':>12}"
 
         naive_rate = f"{naive['rate'] / 1e3:7.2f} k" if naive else "-"
+        versus_pymunk = f"{ours['rate'] / best:14.1f}x" if not math.isnan(best) else f"{'-':>15}"
+        drift_text = f"{drift_pymunk:13.1e}" if not math.isnan(drift_pymunk) else f"{'-':>13}"
         versus_naive = f"{ours['rate'] / naive['rate']:8.0f}x" if naive else "-"
         print(f"{n:>9,} {fmt(ours):>14} {fmt(hashed):>13} {fmt(tree):>13} {naive_rate:>10} "
-              f"{ours['rate'] / best:14.1f}x {versus_naive:>9} {ours['drift']:10.1e} {drift_pymunk:13.1e}", flush=True)
+              f"{versus_pymunk} {versus_naive:>9} {ours['drift']:10.1e} {drift_text}", flush=True)
     by_n = {row[0]: row[1] for row in rows}
     if 1_000_000 in by_n:
         ratio = by_n[10_000]["rate"] / by_n[1_000_000]["rate"]
