@@ -54,6 +54,7 @@ def run() -> None:
 def test() -> None:
     setup("dev")
     sh(BIN / "ruff", "check", "src", "tests", "bench", "tasks.py")
+    sh(BIN / "ruff", "format", "--check", "src", "tests", "bench", "tasks.py")
     sh(BIN / "mypy")
     sh("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
     sh(PYTHON, "-m", "pytest")

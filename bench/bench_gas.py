@@ -132,8 +132,15 @@ def run_pybullet(gas: GasScenario, steps: int) -> dict[str, float]:
         ids.append(body)
     for body, velocity in zip(ids, gas.velocities.tolist(), strict=True):
         pb.resetBaseVelocity(body, velocity, physicsClientId=client)
-        pb.changeDynamics(body, -1, restitution=1.0, lateralFriction=0.0, linearDamping=0.0, angularDamping=0.0,
-                          physicsClientId=client)
+        pb.changeDynamics(
+            body,
+            -1,
+            restitution=1.0,
+            lateralFriction=0.0,
+            linearDamping=0.0,
+            angularDamping=0.0,
+            physicsClientId=client,
+        )
     half = gas.side / 2.0
     for axis in range(3):
         for sign in (-1.0, 1.0):  # six thick static boxes as walls
@@ -295,15 +302,19 @@ def main() -> None:
         return
     have_pymunk = importlib.util.find_spec("pymunk") is not None
     have_pybullet = importlib.util.find_spec("pybullet") is not None
-    print(f"# {time.strftime('%Y-%m-%d')}, {platform.processor() or platform.machine()}, "
-          f"{platform.python_implementation()} {platform.python_version()}, numpy {np.__version__}")
+    print(
+        f"# {time.strftime('%Y-%m-%d')}, {platform.processor() or platform.machine()}, "
+        f"{platform.python_implementation()} {platform.python_version()}, numpy {np.__version__}"
+    )
     seconds, compiled = timed(warm_up)
     how = "compiled or loaded from cache" if compiled else "numpy only"
     print(f"# numba kernels ready in {seconds:.2f} s ({how})")
     sizes = [1000, 10_000] if args.quick else [1000, 10_000, 100_000, 1_000_000]
     rows = []
-    print(f"{'N':>9} {'collisionlab':>14} {'pymunk hash':>13} {'pymunk tree':>13} {'naive':>10} "
-          f"{'vs best pymunk':>15} {'vs naive':>9} {'drift cl':>10} {'drift pymunk':>13}")
+    print(
+        f"{'N':>9} {'collisionlab':>14} {'pymunk hash':>13} {'pymunk tree':>13} {'naive':>10} "
+        f"{'vs best pymunk':>15} {'vs naive':>9} {'drift cl':>10} {'drift pymunk':>13}"
+    )
     for n in sizes:
         gas = gas_scenario(n, 2, SEED)
         ours = run_collisionlab(gas, steps_for(n, 3e7 if n < 1_000_000 else 6e7))
@@ -324,26 +335,34 @@ def main() -> None:
         versus_pymunk = f"{ours['rate'] / best:14.1f}x" if not math.isnan(best) else f"{'-':>15}"
         drift_text = f"{drift_pymunk:13.1e}" if not math.isnan(drift_pymunk) else f"{'-':>13}"
         versus_naive = f"{ours['rate'] / naive['rate']:8.0f}x" if naive else "-"
-        print(f"{n:>9,} {fmt(ours):>14} {fmt(hashed):>13} {fmt(tree):>13} {naive_rate:>10} "
-              f"{versus_pymunk} {versus_naive:>9} {ours['drift']:10.1e} {drift_text}", flush=True)
+        print(
+            f"{n:>9,} {fmt(ours):>14} {fmt(hashed):>13} {fmt(tree):>13} {naive_rate:>10} "
+            f"{versus_pymunk} {versus_naive:>9} {ours['drift']:10.1e} {drift_text}",
+            flush=True,
+        )
     by_n = {row[0]: row[1] for row in rows}
     if 1_000_000 in by_n:
         ratio = by_n[10_000]["rate"] / by_n[1_000_000]["rate"]
         print(f"# cost per body-step at 1M / at 10k: {ratio:.2f}")
-        probe = subprocess.run([sys.executable, __file__, "--memory-probe", "1000000"], capture_output=True,
-                               text=True, check=True)
+        probe = subprocess.run(
+            [sys.executable, __file__, "--memory-probe", "1000000"], capture_output=True, text=True, check=True
+        )
         rss, held = probe.stdout.split()
         print(f"# memory at 1M bodies: {rss} bytes/body peak RSS growth, {held} bytes/body of arrays held")
     print(f"# collisions per body-step at 100k: {by_n.get(100_000, by_n[10_000])['collisions_per_body_step']:.4f}")
     if have_pybullet:
-        print(f"{'N (3D)':>9} {'collisionlab':>14} {'pybullet':>13} {'ratio':>9} {'drift cl':>10} "
-              f"{'drift pybullet':>15}")
+        print(
+            f"{'N (3D)':>9} {'collisionlab':>14} {'pybullet':>13} {'ratio':>9} {'drift cl':>10} {'drift pybullet':>15}"
+        )
         for n in [1000, 10_000]:
             gas = gas_scenario(n, 3, SEED)
             ours = run_collisionlab(gas, steps_for(n, 3e7))
             bullet = run_pybullet(gas, steps_for(n, 1e6, 10))
-            print(f"{n:>9,} {ours['rate'] / 1e6:12.3f} M {bullet['rate'] / 1e6:11.3f} M "
-                  f"{ours['rate'] / bullet['rate']:8.1f}x {ours['drift']:10.1e} {bullet['drift']:15.1e}", flush=True)
+            print(
+                f"{n:>9,} {ours['rate'] / 1e6:12.3f} M {bullet['rate'] / 1e6:11.3f} M "
+                f"{ours['rate'] / bullet['rate']:8.1f}x {ours['drift']:10.1e} {bullet['drift']:15.1e}",
+                flush=True,
+            )
     else:
         print("# pybullet not installed: no 3D comparison")
     if not args.quick:

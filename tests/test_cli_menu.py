@@ -43,8 +43,12 @@ def prompts(out: str) -> list[str]:
 def test_the_menu_lists_the_labs_four_cases_first_numbered_as_in_the_lab() -> None:
     result = run_cli(["menu"], "")  # end of input at the first question: the list is printed
     listed = [line.split(None, 1) for line in result.lines if line.startswith("  ") and line.strip()[:1].isdigit()]
-    assert listed[:4] == [["1", "AABB in 3D"], ["2", "sphere and sphere"], ["3", "circle and line"],
-                          ["4", "sphere and plane"]]
+    assert listed[:4] == [
+        ["1", "AABB in 3D"],
+        ["2", "sphere and sphere"],
+        ["3", "circle and line"],
+        ["4", "sphere and plane"],
+    ]
     assert len(listed) == len(CASES) > 4  # plus the others the library supports
 
 
@@ -121,7 +125,10 @@ def test_the_lab_cases_ask_what_part_vi_b_lists() -> None:
     for case in (1, 2):  # both bodies: position, extent, velocity; and masses
         for body in ("a", "b"):
             assert [k for k in keys[case] if k.startswith(body + ".")] == [
-                f"{body}.position", f"{body}.{'size' if case == 1 else 'radius'}", f"{body}.velocity", f"{body}.mass"
+                f"{body}.position",
+                f"{body}.{'size' if case == 1 else 'radius'}",
+                f"{body}.velocity",
+                f"{body}.mass",
             ]
     assert {"a.position", "a.radius", "a.velocity", "line.direction", "line.point", "restitution"} <= set(keys[3])
     assert {"a.position", "a.radius", "a.velocity", "p1", "p2", "p3", "restitution"} <= set(keys[4])
@@ -368,7 +375,12 @@ def _spawn_on_a_terminal(cwd: Path) -> tuple[subprocess.Popen[bytes], int]:
     """The bare console script with a pseudo-terminal as its stdin and stdout (stderr a pipe)."""
     master, slave = pty.openpty()
     process = subprocess.Popen(
-        [str(SCRIPT)], stdin=slave, stdout=slave, stderr=subprocess.PIPE, cwd=cwd, close_fds=True,
+        [str(SCRIPT)],
+        stdin=slave,
+        stdout=slave,
+        stderr=subprocess.PIPE,
+        cwd=cwd,
+        close_fds=True,
         env={**os.environ, "TERM": "dumb"},
     )
     os.close(slave)

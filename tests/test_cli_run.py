@@ -156,8 +156,18 @@ def test_stack() -> None:
 
 
 def test_every_example_file_is_covered_above() -> None:
-    covered = {"aabb3d", "spheres", "circle-line", "sphere-plane", "head-on", "circle-box", "ball-in-box",
-               "bouncing-ball", "newtons-cradle", "stack"}
+    covered = {
+        "aabb3d",
+        "spheres",
+        "circle-line",
+        "sphere-plane",
+        "head-on",
+        "circle-box",
+        "ball-in-box",
+        "bouncing-ball",
+        "newtons-cradle",
+        "stack",
+    }
     assert set(EXAMPLE_NAMES) == covered
 
 
@@ -166,8 +176,7 @@ def test_every_example_runs_as_a_table_with_a_collision_and_a_summary(name: str)
     result = run_cli(["run", example(name)])
     assert result.status == 0, result.err
     assert result.collisions()
-    assert "velocit" in result.lines[result.lines.index(next(x for x in result.lines if x.startswith("collision")))
-                                     + 1]
+    assert "velocit" in result.lines[result.lines.index(next(x for x in result.lines if x.startswith("collision"))) + 1]
     assert any(line.startswith("summary: ") for line in result.lines)
 
 
@@ -250,8 +259,16 @@ def test_quiet_prints_collisions_and_summary_only() -> None:
 def test_csv_has_a_header_and_a_row_per_printed_step() -> None:
     result = run_cli(["run", example("spheres"), "--format", "csv", "--every", "50"])
     lines = result.lines
-    assert lines[0].split(",")[:8] == ["step", "time", "sphere A.x", "sphere A.y", "sphere A.z", "sphere A.vx",
-                                       "sphere A.vy", "sphere A.vz"]
+    assert lines[0].split(",")[:8] == [
+        "step",
+        "time",
+        "sphere A.x",
+        "sphere A.y",
+        "sphere A.z",
+        "sphere A.vx",
+        "sphere A.vy",
+        "sphere A.vz",
+    ]
     assert [line.split(",")[0] for line in lines[1:]] == ["0", "50", "100", "150", "200"]
     assert all(len(line.split(",")) == 14 for line in lines)
 
@@ -389,8 +406,14 @@ def test_an_unwritable_output_exits_1_with_a_message(tmp_path: Path) -> None:
 
 # --- the real console script ----------------------------------------------------------------------
 def test_the_console_script_runs_the_demo() -> None:
-    process = subprocess.run([str(SCRIPT), "demo", "--quiet"], capture_output=True, text=True, timeout=60,
-                             stdin=subprocess.DEVNULL, check=False)
+    process = subprocess.run(
+        [str(SCRIPT), "demo", "--quiet"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        stdin=subprocess.DEVNULL,
+        check=False,
+    )
     assert process.returncode == 0, process.stderr
     assert "collision at step 126 (t = 1.260 s): ball hits floor" in process.stdout
 
@@ -398,7 +421,12 @@ def test_the_console_script_runs_the_demo() -> None:
 def test_python_dash_m_runs_the_same_command_line(tmp_path: Path) -> None:
     process = subprocess.run(
         [sys.executable, "-m", "collisionlab", "run", example("circle-line"), "--format", "json", "--every", "150"],
-        capture_output=True, text=True, timeout=60, stdin=subprocess.DEVNULL, check=False, cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        stdin=subprocess.DEVNULL,
+        check=False,
+        cwd=tmp_path,
     )
     assert process.returncode == 0, process.stderr
     assert '"step": 76' in process.stdout
@@ -407,8 +435,14 @@ def test_python_dash_m_runs_the_same_command_line(tmp_path: Path) -> None:
 def test_the_console_script_reports_bad_data_with_65_and_no_traceback(tmp_path: Path) -> None:
     bad = tmp_path / "nan.toml"
     bad.write_text('[[body]]\nshape = "sphere"\nposition = [0, nan, 0]\nradius = 1\n')
-    process = subprocess.run([str(SCRIPT), "run", str(bad)], capture_output=True, text=True, timeout=60,
-                             stdin=subprocess.DEVNULL, check=False)
+    process = subprocess.run(
+        [str(SCRIPT), "run", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        stdin=subprocess.DEVNULL,
+        check=False,
+    )
     assert process.returncode == 65
     assert "body[0].position" in process.stderr and "Traceback" not in process.stderr
 
@@ -420,7 +454,11 @@ def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: 
     target = tmp_path / "out.txt"
     process = subprocess.Popen(
         [str(SCRIPT), "demo", "spheres", "--steps", "100000000", "--quiet", "--output", str(target)],
-        stdin=slave, stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path, close_fds=True,
+        stdin=slave,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        cwd=tmp_path,
+        close_fds=True,
     )
     os.close(slave)
     try:
@@ -438,9 +476,7 @@ def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: 
     assert files_in(tmp_path) == []
 
 
-@pytest.mark.parametrize(
-    "flag, name", [("--plot", "p.txt"), ("--animate", "a.png"), ("--html", "missing/h.html")]
-)
+@pytest.mark.parametrize("flag, name", [("--plot", "p.txt"), ("--animate", "a.png"), ("--html", "missing/h.html")])
 def test_a_bad_picture_path_fails_before_the_run(tmp_path: Path, flag: str, name: str) -> None:
     # The path is checked first: status 2, one line naming the flag, and nothing simulated or printed.
     result = run_cli(["demo", "spheres", flag, str(tmp_path / name)])

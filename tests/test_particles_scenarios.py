@@ -39,8 +39,14 @@ def test_equal_speeds_start() -> None:
 
 @pytest.mark.parametrize(
     ("kwargs", "field"),
-    [({"n": 0}, "n"), ({"dim": 4}, "dim"), ({"fraction": 0.9}, "fraction"), ({"speeds": "hot"}, "speeds"),
-     ({"seed": -1}, "seed"), ({"radius": 0.0}, "radius")],
+    [
+        ({"n": 0}, "n"),
+        ({"dim": 4}, "dim"),
+        ({"fraction": 0.9}, "fraction"),
+        ({"speeds": "hot"}, "speeds"),
+        ({"seed": -1}, "seed"),
+        ({"radius": 0.0}, "radius"),
+    ],
 )
 def test_bad_values_name_the_field(kwargs: dict[str, object], field: str) -> None:
     args: dict[str, object] = {"n": 10, "dim": 2} | kwargs

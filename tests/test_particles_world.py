@@ -78,8 +78,15 @@ def _vec(row: np.ndarray) -> Vector3D:
 
 
 def reference_step(
-    pos: np.ndarray, vel: np.ndarray, rad: np.ndarray, mass: np.ndarray, lo: float, hi: float,
-    dt: float, e: float, g: np.ndarray,
+    pos: np.ndarray,
+    vel: np.ndarray,
+    rad: np.ndarray,
+    mass: np.ndarray,
+    lo: float,
+    hi: float,
+    dt: float,
+    e: float,
+    g: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, int]:
     """One step with collisionlab.resolution, in plain Python: Euler, detect, resolve, push apart.
     Each body has at most one contact (asserted), so the order of contacts does not matter."""
@@ -144,8 +151,12 @@ def pair_scenes(draw: st.DrawFn) -> dict[str, object]:
         rad.append(r)
         mass.append(rng.choice([1.0, 0.3]))
     return {
-        "pos": np.array(pos), "vel": np.array(vel), "rad": np.array(rad), "mass": np.array(mass),
-        "dt": draw(st.sampled_from([0.01, 0.05, 0.1])), "e": draw(st.sampled_from([1.0, 0.7, 0.0])),
+        "pos": np.array(pos),
+        "vel": np.array(vel),
+        "rad": np.array(rad),
+        "mass": np.array(mass),
+        "dt": draw(st.sampled_from([0.01, 0.05, 0.1])),
+        "e": draw(st.sampled_from([1.0, 0.7, 0.0])),
         "g": np.array([0.0, -draw(st.sampled_from([0.0, 9.81]))] + [0.0] * (dim - 2)),
     }
 
@@ -157,8 +168,16 @@ def test_one_step_equals_the_scalar_core(scene: dict[str, object]) -> None:
     dt, e, g = float(scene["dt"]), float(scene["e"]), np.asarray(scene["g"])  # type: ignore[arg-type]
     want_pos, want_vel, _ = reference_step(pos, vel, rad, mass, -150.0, 150.0, dt, e, g)
     for backend in BACKENDS:
-        world = ParticleWorld(pos, vel, rad, mass, box=((-150.0,) * pos.shape[1], (150.0,) * pos.shape[1]),
-                              restitution=e, gravity=g, backend=backend)
+        world = ParticleWorld(
+            pos,
+            vel,
+            rad,
+            mass,
+            box=((-150.0,) * pos.shape[1], (150.0,) * pos.shape[1]),
+            restitution=e,
+            gravity=g,
+            backend=backend,
+        )
         world.step(dt)
         np.testing.assert_allclose(world.positions, want_pos, rtol=0, atol=1e-12)
         np.testing.assert_allclose(world.velocities, want_vel, rtol=0, atol=1e-12)
@@ -184,7 +203,8 @@ def test_a_ball_hit_by_four_at_once_does_not_depend_on_body_order(backend: str) 
     world_args = {
         "positions": [[0, 0], [1.9, 0], [-1.9, 0], [0, 1.9], [0, -1.9], [30, 30]],
         "velocities": [[0, 0], [-1, 0], [1, 0], [0, -1], [0, 1], [0, 0]],
-        "radii": 1.0, "masses": [1.0, 2.0, 3.0, 0.5, 1.5, 1.0],
+        "radii": 1.0,
+        "masses": [1.0, 2.0, 3.0, 0.5, 1.5, 1.0],
         "box": ((-40, -40), (40, 40)),
     }
     baseline = _permuted_run(world_args, np.arange(6), 1, backend)
@@ -201,9 +221,13 @@ def test_a_ball_hit_by_four_at_once_does_not_depend_on_body_order(backend: str) 
 def test_a_dense_gas_does_not_depend_on_body_order(backend: str, dim: int) -> None:
     gas = gas_scenario(150, dim, seed=3, fraction=0.45 if dim == 2 else 0.35)
     world_args = {
-        "positions": gas.positions, "velocities": gas.velocities, "radii": np.linspace(0.8, 1.0, 150),
-        "masses": np.linspace(1.0, 2.0, 150), "box": ((0.0,) * dim, (gas.side,) * dim),
-        "restitution": 0.9, "gravity": (0.0, -1.0, 0.0)[:dim],
+        "positions": gas.positions,
+        "velocities": gas.velocities,
+        "radii": np.linspace(0.8, 1.0, 150),
+        "masses": np.linspace(1.0, 2.0, 150),
+        "box": ((0.0,) * dim, (gas.side,) * dim),
+        "restitution": 0.9,
+        "gravity": (0.0, -1.0, 0.0)[:dim],
     }
     baseline = _permuted_run(world_args, np.arange(150), 40, backend)
     assert baseline[2].body_collisions > 100
@@ -237,8 +261,14 @@ def test_elastic_gas_conserves_energy(dim: int) -> None:
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_momentum_is_conserved_without_walls_and_energy_falls_with_e_below_one(backend: str) -> None:
     gas = gas_scenario(300, 2, seed=8, fraction=0.4)
-    world = ParticleWorld(gas.positions, gas.velocities + np.array([0.3, -0.2]), 1.0, np.linspace(0.5, 3.0, 300),
-                          restitution=0.6, backend=backend)
+    world = ParticleWorld(
+        gas.positions,
+        gas.velocities + np.array([0.3, -0.2]),
+        1.0,
+        np.linspace(0.5, 3.0, 300),
+        restitution=0.6,
+        backend=backend,
+    )
     momentum = world.momentum()
     energies = [world.kinetic_energy()]
     for _ in range(20):
@@ -267,8 +297,15 @@ def test_no_ball_leaves_the_box_and_no_nan_after_10000_steps_of_a_dense_gas(dim:
 def test_a_column_of_balls_comes_to_rest_on_the_floor(backend: str) -> None:
     # Five unit balls dropped as a column (gaps 0.05) with e = 0 under gravity: the floor's impulse
     # reaches up the column through the contact margin, so it settles with centres near 1, 3, 5, 7, 9.
-    world = ParticleWorld([[5.0, 1.0 + 2.05 * i] for i in range(5)], np.zeros((5, 2)), 1.0,
-                          box=((0, 0), (10, 50)), restitution=0.0, gravity=(0, -1), backend=backend)
+    world = ParticleWorld(
+        [[5.0, 1.0 + 2.05 * i] for i in range(5)],
+        np.zeros((5, 2)),
+        1.0,
+        box=((0, 0), (10, 50)),
+        restitution=0.0,
+        gravity=(0, -1),
+        backend=backend,
+    )
     world.step(0.05, 1000)
     heights = world.positions[:, 1]
     np.testing.assert_allclose(heights, [1, 3, 5, 7, 9], atol=0.05)
@@ -361,14 +398,23 @@ def test_one_step_equals_the_scalar_world(seed: int) -> None:
     pos_a, vel_a, rad_a, mass_a = np.array(pos), np.array(vel), np.array(rad), np.array(mass)
     dt, e, g = 0.01, float(rng.choice([1.0, 0.6, 0.0])), np.array([0.0, -9.81, 0.0][:dim])
     make = Circle if dim == 2 else Sphere
-    bodies = [Body(f"b{i}", make(tuple(p), r), velocity=tuple(v), mass=m)
-              for i, (p, v, r, m) in enumerate(zip(pos_a, vel_a, rad_a, mass_a, strict=True))]
+    bodies = [
+        Body(f"b{i}", make(tuple(p), r), velocity=tuple(v), mass=m)
+        for i, (p, v, r, m) in enumerate(zip(pos_a, vel_a, rad_a, mass_a, strict=True))
+    ]
     if dim == 2:
-        walls = [Obstacle("floor", Line((0, -30), (1, 0))), Obstacle("ceiling", Line((0, 30), (1, 0))),
-                 Obstacle("left", Line((-30, 0), (0, 1))), Obstacle("right", Line((30, 0), (0, 1)))]
+        walls = [
+            Obstacle("floor", Line((0, -30), (1, 0))),
+            Obstacle("ceiling", Line((0, 30), (1, 0))),
+            Obstacle("left", Line((-30, 0), (0, 1))),
+            Obstacle("right", Line((30, 0), (0, 1))),
+        ]
     else:
-        walls = [Obstacle(f"w{k}{s}", Plane(tuple(np.eye(3)[k] * -30 * s), tuple(np.eye(3)[k] * s)))
-                 for k in range(3) for s in (1, -1)]
+        walls = [
+            Obstacle(f"w{k}{s}", Plane(tuple(np.eye(3)[k] * -30 * s), tuple(np.eye(3)[k] * s)))
+            for k in range(3)
+            for s in (1, -1)
+        ]
     world = World(Scenario(Settings(dt=dt, steps=1, restitution=e, gravity=tuple(g)), tuple(bodies), tuple(walls)))
     world.step()
     approach = [abs(ev.approach_speed) for ev in world.record.events]
@@ -376,8 +422,9 @@ def test_one_step_equals_the_scalar_world(seed: int) -> None:
     if any(a < 2 * REST_SPEED for a in approach):
         pytest.skip("a contact slower than the scalar world's rest threshold (the gas has none)")
     for backend in BACKENDS:
-        gas = ParticleWorld(pos_a, vel_a, rad_a, mass_a, box=((-30.0,) * dim, (30.0,) * dim),
-                            restitution=e, gravity=g, backend=backend)
+        gas = ParticleWorld(
+            pos_a, vel_a, rad_a, mass_a, box=((-30.0,) * dim, (30.0,) * dim), restitution=e, gravity=g, backend=backend
+        )
         gas.step(dt)
         want_pos = np.array([list(x)[:dim] for x in world.positions])
         want_vel = np.array([list(v)[:dim] for v in world.velocities])

@@ -88,15 +88,33 @@ def test_summary_gives_collisions_momentum_and_kinetic_energy_at_start_and_end()
     start = next(i for i, line in enumerate(lines) if line.startswith("summary: "))
     assert lines[start] == "summary: 1 collision in 10 steps (1.000 s, mode euler)"
     # p = m v: (0, -1, 0) before, (0, 0.5, 0) after; KE 0.5 * 1 = 0.5 J before, 0.5 * 0.25 = 0.125 J after
-    assert lines[start + 1].split() == ["momentum", "start", "(0.000,", "-1.000,", "0.000)", "kg", "m/s", "end",
-                                        "(0.000,", "0.500,", "0.000)", "kg", "m/s"]
+    assert lines[start + 1].split() == [
+        "momentum",
+        "start",
+        "(0.000,",
+        "-1.000,",
+        "0.000)",
+        "kg",
+        "m/s",
+        "end",
+        "(0.000,",
+        "0.500,",
+        "0.000)",
+        "kg",
+        "m/s",
+    ]
     assert lines[start + 2].split() == ["kinetic", "energy", "start", "0.5", "J", "end", "0.125", "J"]
 
 
 def test_summary_counts_in_plural() -> None:
     assert "summary: 1 collision in 6 steps" in render_table(head_on())
-    none = simulate(Scenario(Settings(dt=0.1, steps=2), (Body("b", Circle((0, 5), 1), velocity=(1, 0)),),
-                             (Obstacle("l", Line((0, 0), (1, 0))),)))
+    none = simulate(
+        Scenario(
+            Settings(dt=0.1, steps=2),
+            (Body("b", Circle((0, 5), 1), velocity=(1, 0)),),
+            (Obstacle("l", Line((0, 0), (1, 0))),),
+        )
+    )
     assert "summary: 0 collisions in 2 steps" in render_table(none)
 
 

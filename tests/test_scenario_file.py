@@ -70,8 +70,12 @@ BAD_FILES = [
         "static[0].points",
         "three points",
     ),
-    ("nan in a plane point", BALL + '[[static]]\nshape = "plane"\npoints = [[0, 0, 0], [1, 0, nan], [0, 0, 1]]\n',
-     "static[0].points", "finite"),
+    (
+        "nan in a plane point",
+        BALL + '[[static]]\nshape = "plane"\npoints = [[0, 0, 0], [1, 0, nan], [0, 0, 1]]\n',
+        "static[0].points",
+        "finite",
+    ),
     (
         "zero line direction",
         '[[body]]\nshape = "circle"\nposition = [0, 3]\nradius = 1\n'
@@ -79,12 +83,20 @@ BAD_FILES = [
         "static[0].direction",
         "zero vector",
     ),
-    ("circle off the plane", '[[body]]\nshape = "circle"\nposition = [0, 3, 1]\nradius = 1\n', "body[0].position",
-     "z = 0"),
+    (
+        "circle off the plane",
+        '[[body]]\nshape = "circle"\nposition = [0, 3, 1]\nradius = 1\n',
+        "body[0].position",
+        "z = 0",
+    ),
     ("duplicate names", BALL + BALL.replace("[0, 3, 0]", "[5, 3, 0]"), "body[1].name", "unique"),
     ("empty name", BALL.replace('"ball"', '""'), "body[0].name", "non-empty"),
-    ("a pair with no query", BALL + '[[static]]\nshape = "line"\npoint = [0, 0]\ndirection = [1, 0]\n',
-     "body[0].shape", "cannot collide"),
+    (
+        "a pair with no query",
+        BALL + '[[static]]\nshape = "line"\npoint = [0, 0]\ndirection = [1, 0]\n',
+        "body[0].shape",
+        "cannot collide",
+    ),
     ("not TOML", "[[body]\n", "file", "not valid TOML"),
 ]
 
@@ -116,8 +128,7 @@ def test_a_missing_file_is_reported_without_a_traceback(tmp_path: Path) -> None:
 
 # --- what a valid file may say ------------------------------------------------------------------
 def test_defaults_for_what_a_file_leaves_out() -> None:
-    scenario = parse_scenario(tomllib.loads('[[body]]\nshape = "sphere"\nposition = [0, 3, 0]\nradius = 1\n'),
-                              "x.toml")
+    scenario = parse_scenario(tomllib.loads('[[body]]\nshape = "sphere"\nposition = [0, 3, 0]\nradius = 1\n'), "x.toml")
     (body,) = scenario.bodies
     assert body.name == "body1" and body.mass == 1.0 and body.velocity.as_tuple() == (0, 0, 0)
     assert body.restitution is None
@@ -174,9 +185,11 @@ def test_round_trip_keeps_overrides_gravity_and_odd_names() -> None:
     text = (
         '[simulation]\ntitle = "a \\"quoted\\" title"\ndt = 0.003\nsteps = 7\nrestitution = 0.3\n'
         'gravity = [0, -9.81, 0]\nmode = "exact"\n'
-        + BALL.replace('"ball"', '"ball \\\\ one"') + "mass = 2.5\nrestitution = 0.9\n"
+        + BALL.replace('"ball"', '"ball \\\\ one"')
+        + "mass = 2.5\nrestitution = 0.9\n"
         + '[[body]]\nname = "box"\nshape = "aabb"\nposition = [0.1, 5.3, -0.7]\nsize = [0.3, 0.2, 0.1]\n'
-        + FLOOR + "restitution = 0.1\n"
+        + FLOOR
+        + "restitution = 0.1\n"
     )
     original = parse_scenario(tomllib.loads(text), "odd.toml")
     assert _reload(original) == original

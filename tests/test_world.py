@@ -273,8 +273,9 @@ def test_exact_stack_of_two_balls_settles_without_sinking():
     # into its support), nothing sinks, and the energy lost is m g h = 1 * 9.81 * 0.5.
     lower = Body("lower", Sphere((0, 0.5, 0), 0.5), velocity=(0, 0, 0))
     upper = Body("upper", Sphere((0, 2.0, 0), 0.5), velocity=(0, 0, 0))
-    scenario = _scenario([lower, upper], [FLOOR], dt=0.01, steps=300, restitution=0.5, gravity=(0, -9.81, 0),
-                         mode="exact")
+    scenario = _scenario(
+        [lower, upper], [FLOOR], dt=0.01, steps=300, restitution=0.5, gravity=(0, -9.81, 0), mode="exact"
+    )
     record = simulate(scenario)
     assert all(e.bodies == ("lower", "upper") for e in record.events)  # the lower ball never leaves the floor
     assert len(record.events) < 30
@@ -309,8 +310,12 @@ def test_exact_discs_in_a_box_never_overlap_or_escape(count, seed, e):
     ]
     slots = rng.sample([(x, y) for x in (-3, -1, 1, 3) for y in (-3, -1, 1, 3)], count)
     bodies = [
-        Body(f"d{i}", Circle(slot, rng.uniform(0.2, 0.9)), velocity=(rng.uniform(-20, 20), rng.uniform(-20, 20)),
-             mass=rng.uniform(0.5, 3))
+        Body(
+            f"d{i}",
+            Circle(slot, rng.uniform(0.2, 0.9)),
+            velocity=(rng.uniform(-20, 20), rng.uniform(-20, 20)),
+            mass=rng.uniform(0.5, 3),
+        )
         for i, slot in enumerate(slots)
     ]
     record = simulate(_scenario(bodies, walls, dt=0.02, steps=60, restitution=e, mode="exact"))

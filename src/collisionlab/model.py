@@ -117,9 +117,7 @@ class Scenario:
             try:
                 separation(a.shape, b.shape)
             except UnsupportedPairError as error:
-                raise InvalidInputError(
-                    f"{b.name}", f"'{a.name}' and '{b.name}' cannot collide: {error}"
-                ) from error
+                raise InvalidInputError(f"{b.name}", f"'{a.name}' and '{b.name}' cannot collide: {error}") from error
 
     @property
     def dims(self) -> int:

@@ -221,8 +221,12 @@ def _centre_and_size(box: AABB) -> tuple[Vector3D, Vector3D]:
     centre, size = list(box.center.as_tuple()), list((box.max_corner - box.min_corner).as_tuple())
     for axis, (low, high) in enumerate(zip(box.min_corner.as_tuple(), box.max_corner.as_tuple(), strict=True)):
         found = next(
-            ((c, s) for s in _shortest(size[axis]) for c in _shortest(centre[axis])
-             if c - s * 0.5 == low and c + s * 0.5 == high),
+            (
+                (c, s)
+                for s in _shortest(size[axis])
+                for c in _shortest(centre[axis])
+                if c - s * 0.5 == low and c + s * 0.5 == high
+            ),
             None,
         )
         if found is not None:

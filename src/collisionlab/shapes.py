@@ -98,9 +98,7 @@ class AABB:
         high = _vector(self, "max_corner", self.max_corner)
         for axis, lo, hi in zip("xyz", low, high, strict=True):
             if hi < lo:
-                raise InvalidInputError(
-                    "max_corner", f"must be >= min_corner on every axis; {axis} is {hi!r} < {lo!r}"
-                )
+                raise InvalidInputError("max_corner", f"must be >= min_corner on every axis; {axis} is {hi!r} < {lo!r}")
 
     @staticmethod
     def from_center_size(center: VectorLike, size: VectorLike) -> AABB:

@@ -47,7 +47,6 @@ SOLVER_MARGIN: float = 2e-9
 REST_SPEED: float = 1e-3
 
 
-
 #: Metres. A pair that has collided stays "in contact" (its next impulse is not a new impact
 #: and is not reported again) until its distance grows beyond this. It also decides when a body
 #: lies on a static obstacle (resting contact, exact mode). Larger than ``CONTACT_SLOP`` so that

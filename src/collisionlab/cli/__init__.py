@@ -79,8 +79,10 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
             if streams.interactive:
                 return run_menu(streams)
             streams.err(parser.format_usage().rstrip())
-            streams.err("collisionlab: no command given and standard input is not a terminal; "
-                        "use 'collisionlab menu' to answer the menu from a pipe, or 'collisionlab demo'")
+            streams.err(
+                "collisionlab: no command given and standard input is not a terminal; "
+                "use 'collisionlab menu' to answer the menu from a pipe, or 'collisionlab demo'"
+            )
             return EXIT_USAGE
         args = parser.parse_args(args_list)
         if args.command is None:

@@ -59,7 +59,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         "--gravity", type=float, default=0.0, help="acceleration along -y, radii per time unit^2 (default 0)"
     )
     parser.add_argument(
-        "--speeds", choices=SPEED_DISTRIBUTIONS, default="gaussian",
+        "--speeds",
+        choices=SPEED_DISTRIBUTIONS,
+        default="gaussian",
         help="initial speeds: gaussian (Maxwell-Boltzmann already) or equal (watch them relax)",
     )
     parser.add_argument("--backend", choices=BACKENDS, default="auto", help="kernels: numba if installed")
@@ -112,8 +114,10 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         scenario = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
         world = scenario.world(restitution=args.restitution, gravity=args.gravity, backend=args.backend)
     except InvalidInputError as err:
-        streams.err(f"{_PROG}: {_FLAGS.get(err.field, err.field)}: {err.problem}"
-                    + (f" (got {err.got!r})" if err.got is not None else ""))
+        streams.err(
+            f"{_PROG}: {_FLAGS.get(err.field, err.field)}: {err.problem}"
+            + (f" (got {err.got!r})" if err.got is not None else "")
+        )
         return 2
     except MemoryError:
         streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")

@@ -52,9 +52,7 @@ def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
                 f"    v_{name} {sign}= (j / {_number(mass)}) n: {_vec(before, dims)} -> "
                 f"{_vec(event.velocities_after[name], dims)}"
             )
-        lines.append(
-            f"    kinetic energy {event.kinetic_energy_before:.4f} J -> {event.kinetic_energy_after:.4f} J"
-        )
+        lines.append(f"    kinetic energy {event.kinetic_energy_before:.4f} J -> {event.kinetic_energy_after:.4f} J")
     lines.append(f"  {label}: {after} m/s")
     return lines
 

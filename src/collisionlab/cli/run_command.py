@@ -51,10 +51,17 @@ positive_int = _flag_value(whole_number, int, "a whole number >= 1")
 def _add_common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--steps", type=positive_int, help="number of steps (overrides the scenario)")
     parser.add_argument("--dt", type=positive_float, help="time step in seconds (overrides the scenario)")
-    parser.add_argument("--mode", choices=("euler", "exact"), help="stepping: the lab's Forward Euler, or exact "
-                        "time of impact (nothing tunnels); overrides the scenario")
-    parser.add_argument("--restitution", type=non_negative_float, metavar="E",
-                        help="default coefficient of restitution (overrides the scenario; > 1 adds energy)")
+    parser.add_argument(
+        "--mode",
+        choices=("euler", "exact"),
+        help="stepping: the lab's Forward Euler, or exact time of impact (nothing tunnels); overrides the scenario",
+    )
+    parser.add_argument(
+        "--restitution",
+        type=non_negative_float,
+        metavar="E",
+        help="default coefficient of restitution (overrides the scenario; > 1 adds energy)",
+    )
     parser.add_argument("--every", type=positive_int, default=1, metavar="K", help="print every K-th step")
     parser.add_argument("--format", choices=("table", "csv", "json"), default="table", help="output format")
     parser.add_argument("--output", metavar="FILE", help="write the output to FILE (atomically) instead of stdout")
@@ -108,8 +115,11 @@ def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, s
         return
     from .. import plotting  # matplotlib and plotly load only when a picture is asked for
 
-    for option, save in (("plot", plotting.save_plot), ("animate", plotting.save_animation),
-                         ("html", plotting.save_html)):
+    for option, save in (
+        ("plot", plotting.save_plot),
+        ("animate", plotting.save_animation),
+        ("html", plotting.save_html),
+    ):
         target = getattr(args, option)
         if target:
             path = _suffixed(target, scenario, many)

@@ -53,8 +53,11 @@ def warm_up() -> bool:
     from .world import ParticleWorld
 
     world = ParticleWorld(
-        np.array([[0.0, 0.0], [1.5, 0.0]]), np.array([[1.0, 0.0], [-1.0, 0.0]]), 1.0,
-        box=((-3.0, -3.0), (3.0, 3.0)), backend="numba",
+        np.array([[0.0, 0.0], [1.5, 0.0]]),
+        np.array([[1.0, 0.0], [-1.0, 0.0]]),
+        1.0,
+        box=((-3.0, -3.0), (3.0, 3.0)),
+        backend="numba",
     )
     world.step(0.1, steps=2)
     world.overlapping_pairs()

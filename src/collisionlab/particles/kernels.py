@@ -275,9 +275,7 @@ def _pair_normal(pos: Any, a: int, b: int, normal: Any) -> float:
 
 
 @_jit
-def _resolve(
-    pos: Any, vel: Any, ima: Any, planes_n: Any, ca: Any, cb: Any, order: Any, e: float, stats: Any
-) -> int:
+def _resolve(pos: Any, vel: Any, ima: Any, planes_n: Any, ca: Any, cb: Any, order: Any, e: float, stats: Any) -> int:
     """One pass of impulses, contact after contact in ``order``, each from the current
     velocities; returns how many were applied."""
     dim = pos.shape[1]
@@ -336,9 +334,7 @@ def _clamp(pos: Any, rad: Any, planes_n: Any, planes_c: Any, i: int) -> None:
 
 
 @_jit
-def _push_apart(
-    pos: Any, rad: Any, ima: Any, planes_n: Any, planes_c: Any, ca: Any, cb: Any, order: Any
-) -> int:
+def _push_apart(pos: Any, rad: Any, ima: Any, planes_n: Any, planes_c: Any, ca: Any, cb: Any, order: Any) -> int:
     """One pass of positional correction in ``order``, from current positions (a pair pushed
     earlier in the pass is measured again): a pair overlapping by ``d >= 0`` moves apart by
     ``d + CONTACT_SLOP`` in inverse proportion to mass, a ball touching a wall moves out to
@@ -383,7 +379,15 @@ def _push_apart(
 
 @_jit
 def _clamp_touched(
-    pos: Any, rad: Any, ima: Any, planes_n: Any, planes_c: Any, ca: Any, cb: Any, order: Any, mark: Any,
+    pos: Any,
+    rad: Any,
+    ima: Any,
+    planes_n: Any,
+    planes_c: Any,
+    ca: Any,
+    cb: Any,
+    order: Any,
+    mark: Any,
     stamp: int,
 ) -> None:
     """Every body touched by a contact (once, marked by ``stamp``) put back inside every wall, so
@@ -410,11 +414,33 @@ def _integrate(pos: Any, vel: Any, ima: Any, gravity: Any, dt: float) -> None:
 
 @_jit
 def run_steps(
-    pos: Any, vel: Any, rad: Any, ima: Any, ids: Any,
-    pos2: Any, vel2: Any, rad2: Any, ima2: Any, ids2: Any,
-    cell_start: Any, dest: Any, mark: Any, stencil: Any, planes_n: Any, planes_c: Any, gravity: Any,
-    dt: float, e: float, min_cell: float, steps: int, passes: int, first_stamp: int,
-    ca: Any, cb: Any, cd: Any, stats: Any,
+    pos: Any,
+    vel: Any,
+    rad: Any,
+    ima: Any,
+    ids: Any,
+    pos2: Any,
+    vel2: Any,
+    rad2: Any,
+    ima2: Any,
+    ids2: Any,
+    cell_start: Any,
+    dest: Any,
+    mark: Any,
+    stencil: Any,
+    planes_n: Any,
+    planes_c: Any,
+    gravity: Any,
+    dt: float,
+    e: float,
+    min_cell: float,
+    steps: int,
+    passes: int,
+    first_stamp: int,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    stats: Any,
 ) -> Any:
     """Advance ``steps`` steps in place (state re-sorted by cell each step; ``ids`` follows the
     bodies). Impulses and push-apart each sweep the contacts up to ``passes`` times, stopping at
@@ -499,4 +525,3 @@ def find_pairs(pos: Any, rad: Any, stencil: Any, min_cell: float, max_cells: int
         pairs[t, 0] = min(a, b)
         pairs[t, 1] = max(a, b)
     return pairs
-

@@ -201,8 +201,13 @@ def _resolve_level(
 
 
 def _push_level(
-    pos: FloatArray, rad: FloatArray, ima: FloatArray, planes_n: FloatArray, planes_c: FloatArray,
-    a: IntArray, b: IntArray,
+    pos: FloatArray,
+    rad: FloatArray,
+    ima: FloatArray,
+    planes_n: FloatArray,
+    planes_c: FloatArray,
+    a: IntArray,
+    b: IntArray,
 ) -> int:
     pair = b >= 0
     pa, pb = a[pair], b[pair]

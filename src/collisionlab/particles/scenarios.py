@@ -54,14 +54,18 @@ class GasScenario:
     def dim(self) -> int:
         return int(self.positions.shape[1])
 
-    def world(
-        self, restitution: float = 1.0, gravity: float = 0.0, backend: str = "auto"
-    ) -> ParticleWorld:
+    def world(self, restitution: float = 1.0, gravity: float = 0.0, backend: str = "auto") -> ParticleWorld:
         """The scenario as a :class:`ParticleWorld` (unit masses; ``gravity`` pulls along -y)."""
         g = [0.0, -float(gravity), 0.0][: self.dim]
         box = ([0.0] * self.dim, [self.side] * self.dim)
         return ParticleWorld(
-            self.positions, self.velocities, self.radius, 1.0, box=box, restitution=restitution, gravity=g,
+            self.positions,
+            self.velocities,
+            self.radius,
+            1.0,
+            box=box,
+            restitution=restitution,
+            gravity=g,
             backend=backend,
         )
 

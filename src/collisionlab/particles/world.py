@@ -314,9 +314,21 @@ class ParticleWorld:
                 self._run_compiled(dt, count, stats)
             else:
                 numpy_kernels.run_steps(
-                    self._pos, self._vel, self._rad, self._ima, self._stencil, self._planes_n,
-                    self._planes_c, self._gravity, dt, self._e, self._min_cell, self._max_cells, count,
-                    self._passes, stats,
+                    self._pos,
+                    self._vel,
+                    self._rad,
+                    self._ima,
+                    self._stencil,
+                    self._planes_n,
+                    self._planes_c,
+                    self._gravity,
+                    dt,
+                    self._e,
+                    self._min_cell,
+                    self._max_cells,
+                    count,
+                    self._passes,
+                    stats,
                 )
             done += count
             self._steps += count
@@ -331,8 +343,11 @@ class ParticleWorld:
         n = self.n
         if not self._scratch:
             self._scratch = (
-                np.empty_like(self._pos), np.empty_like(self._vel), np.empty_like(self._rad),
-                np.empty_like(self._ima), np.empty_like(self._ids),
+                np.empty_like(self._pos),
+                np.empty_like(self._vel),
+                np.empty_like(self._rad),
+                np.empty_like(self._ima),
+                np.empty_like(self._ids),
                 np.zeros(self._max_cells + 2, np.int64),  # cell starts
                 np.zeros(n, np.int64),  # destination slot of each body in the counting sort
                 np.zeros(n, np.int64),  # step stamp of the last wall clamp of each slot
@@ -341,8 +356,30 @@ class ParticleWorld:
             self._contacts = (np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity))
         pos2, vel2, rad2, ima2, ids2, cell_start, dest, mark = self._scratch
         ca, cb, cd = kernels.run_steps(
-            self._pos, self._vel, self._rad, self._ima, self._ids, pos2, vel2, rad2, ima2, ids2,
-            cell_start, dest, mark, self._stencil, self._planes_n, self._planes_c, self._gravity,
-            dt, self._e, self._min_cell, steps, self._passes, self._steps + 1, *self._contacts, stats,
+            self._pos,
+            self._vel,
+            self._rad,
+            self._ima,
+            self._ids,
+            pos2,
+            vel2,
+            rad2,
+            ima2,
+            ids2,
+            cell_start,
+            dest,
+            mark,
+            self._stencil,
+            self._planes_n,
+            self._planes_c,
+            self._gravity,
+            dt,
+            self._e,
+            self._min_cell,
+            steps,
+            self._passes,
+            self._steps + 1,
+            *self._contacts,
+            stats,
         )
         self._contacts = (ca, cb, cd)

@@ -36,17 +36,35 @@ def save_speed_plot(path: str, start: np.ndarray[Any, Any], world: ParticleWorld
     FigureCanvasAgg(figure)
     axes = figure.add_subplot()
     axes.hist(speeds_start, bins=bins, density=True, histtype="step", color="0.6", label="speeds at the start")
-    axes.hist(speeds_end, bins=bins, density=True, alpha=0.6, color="tab:blue",
-              label=f"speeds after {world.steps_taken} steps")
-    axes.plot(curve_v, speed_pdf(curve_v, world.dim, variance), color="tab:red", lw=2,
-              label=f"Maxwell-Boltzmann, kT/m = {variance:.3g}")
+    axes.hist(
+        speeds_end,
+        bins=bins,
+        density=True,
+        alpha=0.6,
+        color="tab:blue",
+        label=f"speeds after {world.steps_taken} steps",
+    )
+    axes.plot(
+        curve_v,
+        speed_pdf(curve_v, world.dim, variance),
+        color="tab:red",
+        lw=2,
+        label=f"Maxwell-Boltzmann, kT/m = {variance:.3g}",
+    )
     # An equal-speed start is a spike that would flatten everything else: clip it, say so.
-    ceiling = 1.5 * float(max(np.histogram(speeds_end, bins=bins, density=True)[0].max(),
-                              speed_pdf(curve_v, world.dim, variance).max()))
+    ceiling = 1.5 * float(
+        max(np.histogram(speeds_end, bins=bins, density=True)[0].max(), speed_pdf(curve_v, world.dim, variance).max())
+    )
     if np.histogram(speeds_start, bins=bins, density=True)[0].max() > ceiling:
         axes.set_ylim(0.0, ceiling)
-        axes.annotate("start: off scale", xy=(float(np.median(speeds_start)), ceiling), xytext=(6, -14),
-                      textcoords="offset points", ha="left", color="0.4")
+        axes.annotate(
+            "start: off scale",
+            xy=(float(np.median(speeds_start)), ceiling),
+            xytext=(6, -14),
+            textcoords="offset points",
+            ha="left",
+            color="0.4",
+        )
     axes.set_xlabel("speed (radii per time unit)")
     axes.set_ylabel("probability density")
     shape = "discs" if world.dim == 2 else "spheres"
