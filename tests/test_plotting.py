@@ -287,3 +287,12 @@ def test_a_10000_step_run_is_thinned_and_quick(tmp_path: Path, record_property: 
     assert longest <= MAX_POINTS + 2 * len(record.events)
     data = embedded((tmp_path / "long.html").read_text(encoding="utf-8"))
     assert len(data["frames"]) <= MAX_POINTS + 2 * len(record.events)  # type: ignore[arg-type]
+
+
+def test_labels_skip_crowded_collisions() -> None:
+    # Points 0, 0.5 and 3 along x with crowd 1: the second sits within 1 of the first, no label.
+    from collisionlab.plotting._data import uncrowded
+
+    points = np.array([[0.0, 0, 0], [0.5, 0, 0], [3.0, 0, 0]])
+    assert uncrowded(points, 1.0) == [True, False, True]
+    assert uncrowded(points, 1.0, limit=1) == [True, False, False]

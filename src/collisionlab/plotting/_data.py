@@ -36,6 +36,7 @@ __all__ = [
     "plane_patch",
     "sphere_mesh",
     "thin_indices",
+    "uncrowded",
 ]
 
 Array = NDArray[np.float64]
@@ -44,6 +45,19 @@ Array = NDArray[np.float64]
 MAX_LABELLED_EVENTS = 20
 #: At most this many event markers are drawn (evenly chosen when a run has more).
 MAX_EVENT_MARKERS = 1000
+
+
+def uncrowded(points: Array, crowd: float, limit: int = MAX_LABELLED_EVENTS) -> list[bool]:
+    """Which of ``points`` get a label: in order, at most ``limit``, none closer than ``crowd``
+    to one already labelled (so a run of small bounces does not pile its labels up)."""
+    chosen: list[Array] = []
+    keep = []
+    for p in points:
+        ok = len(chosen) < limit and all(float(np.linalg.norm(p - q)) >= crowd for q in chosen)
+        if ok:
+            chosen.append(p)
+        keep.append(ok)
+    return keep
 
 
 def thin_indices(count: int, limit: int, keep: Sequence[int] = ()) -> NDArray[np.int64]:

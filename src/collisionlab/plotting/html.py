@@ -37,7 +37,6 @@ from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane
 from ._data import (
     BOX_TRIANGLES,
-    MAX_LABELLED_EVENTS,
     Array,
     RunArrays,
     box_corners,
@@ -47,6 +46,7 @@ from ._data import (
     plane_patch,
     sphere_mesh,
     thin_indices,
+    uncrowded,
 )
 from .static import MAX_POINTS
 
@@ -137,7 +137,8 @@ def _event_traces(run: RunArrays) -> list[Any]:
         return []
     p = np.array([e.point.as_tuple() for e in events])
     hover = [f"collision at step {e.step}<br>t = {e.time:.4g} s<br>{e.bodies[0]} \u2194 {e.bodies[1]}" for e in events]
-    labels = [f"step {e.step}" if n < MAX_LABELLED_EVENTS else "" for n, e in enumerate(events)]
+    keep = uncrowded(p, 0.15 * run.bounds().span)
+    labels = [f"step {e.step}" if k else "" for e, k in zip(events, keep, strict=True)]
     return [
         go.Scatter3d(
             x=p[:, 0], y=p[:, 1], z=p[:, 2], mode="markers+text", name=f"collision ({len(run.record.events)})",

@@ -34,7 +34,6 @@ from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
 from ._data import (
-    MAX_LABELLED_EVENTS,
     Array,
     Bounds,
     RunArrays,
@@ -44,6 +43,7 @@ from ._data import (
     plane_patch,
     sphere_mesh,
     thin_indices,
+    uncrowded,
 )
 
 __all__ = ["DEFAULT_SIZE", "MAX_POINTS", "draw_figure", "save_plot"]
@@ -200,14 +200,11 @@ def _draw_events(ax: Any, run: RunArrays, dims: int) -> list[Any]:
         ax.scatter(points[:, 0], points[:, 1], marker="X", s=70, color=EVENT_COLOR, edgecolor="k", lw=0.5, zorder=5)
     else:
         ax.scatter(*m3(points), marker="X", s=70, color=EVENT_COLOR, edgecolor="k", lw=0.5, depthshade=False)
-    labelled: list[Array] = []
     crowd = (0.06 if dims == 2 else 0.15) * run.bounds().span  # no label this close to another one
-    for event, p in zip(events, points, strict=True):
-        if len(labelled) >= MAX_LABELLED_EVENTS:
-            break
-        if any(float(np.linalg.norm(p - q)) < crowd for q in labelled):
+    keep = uncrowded(points, crowd)
+    for event, p, shown in zip(events, points, keep, strict=True):
+        if not shown:
             continue
-        labelled.append(p)
         text = f"step {event.step}"
         if dims == 2:
             ax.annotate(
@@ -217,8 +214,8 @@ def _draw_events(ax: Any, run: RunArrays, dims: int) -> list[Any]:
         else:
             ax.text(*m3(p), f"  {text}", fontsize=8, color=EVENT_COLOR)
     label = f"collision ({len(run.record.events)}), labelled by step"
-    if len(labelled) < len(run.record.events):
-        label += f" ({len(labelled)} labelled)"
+    if sum(keep) < len(run.record.events):
+        label += f" ({sum(keep)} labelled)"
     return [Line2D([], [], marker="X", ls="", color=EVENT_COLOR, markeredgecolor="k", ms=8, label=label)]
 
 
