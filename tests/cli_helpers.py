@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import os
+import pty
 import re
 import select
 import subprocess
 import sys
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -113,3 +116,28 @@ def finish(process: subprocess.Popen[bytes], timeout: float = 20.0) -> tuple[int
         _, err = process.communicate()
         raise AssertionError(f"the child did not end within {timeout} s; stderr {err!r}") from None
     return process.returncode, err or b""
+
+
+@contextlib.contextmanager
+def on_a_terminal(argv: list[str], cwd: Path, stdout_too: bool = True) -> Iterator[tuple[subprocess.Popen[bytes], int]]:
+    """The console script with a pseudo-terminal as its stdin (and stdout, unless ``stdout_too``
+    is false: then a pipe), stderr a pipe. Yields the process and the terminal's master end; on
+    leaving, a child still running is killed and the terminal closed."""
+    master, slave = pty.openpty()
+    process = subprocess.Popen(
+        [str(SCRIPT), *argv],
+        stdin=slave,
+        stdout=slave if stdout_too else subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        cwd=cwd,
+        close_fds=True,
+        env={**os.environ, "TERM": "dumb"},
+    )
+    os.close(slave)
+    try:
+        yield process, master
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+        os.close(master)

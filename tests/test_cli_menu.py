@@ -12,7 +12,6 @@ are worked by hand (Forward Euler moves x by v dt a step; a contact counts at di
 from __future__ import annotations
 
 import os
-import pty
 import signal
 import subprocess
 from pathlib import Path
@@ -22,7 +21,7 @@ import pytest
 from collisionlab.cli.menu import CASES
 from collisionlab.scenario_file import load_scenario
 from collisionlab.world import simulate
-from tests.cli_helpers import SCRIPT, InterruptingStdin, files_in, finish, read_until, run_cli, typed
+from tests.cli_helpers import SCRIPT, InterruptingStdin, files_in, finish, on_a_terminal, read_until, run_cli, typed
 
 #: How many questions each case asks (the lab's part VI.B, plus masses, e, dt, steps, mode).
 QUESTION_COUNTS = {1: 12, 2: 12, 3: 9, 4: 10, 5: 12, 6: 12, 7: 9, 8: 9}
@@ -371,25 +370,8 @@ def test_no_arguments_from_a_pipe_is_a_usage_error_that_points_at_the_menu() -> 
 
 
 # --- the real console script on a pseudo-terminal ---------------------------------------------------
-def _spawn_on_a_terminal(cwd: Path) -> tuple[subprocess.Popen[bytes], int]:
-    """The bare console script with a pseudo-terminal as its stdin and stdout (stderr a pipe)."""
-    master, slave = pty.openpty()
-    process = subprocess.Popen(
-        [str(SCRIPT)],
-        stdin=slave,
-        stdout=slave,
-        stderr=subprocess.PIPE,
-        cwd=cwd,
-        close_fds=True,
-        env={**os.environ, "TERM": "dumb"},
-    )
-    os.close(slave)
-    return process, master
-
-
 def test_the_bare_console_script_on_a_terminal_runs_the_menu(tmp_path: Path) -> None:
-    process, master = _spawn_on_a_terminal(tmp_path)
-    try:
+    with on_a_terminal([], tmp_path) as (process, master):
         read_until(master, b"case (1-8) [4]: ")
         os.write(master, b"3\n")
         for _ in range(QUESTION_COUNTS[3]):
@@ -400,11 +382,6 @@ def test_the_bare_console_script_on_a_terminal_runs_the_menu(tmp_path: Path) -> 
         read_until(master, b"scenario file? [y/N]: ")
         os.write(master, b"n\n")
         status, err = finish(process)
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
-        os.close(master)
     assert status == 0, err
     assert b"collision at step 76 (t = 0.760 s): circle hits line" in output
     assert b"velocity after: circle = (1.000, 1.600) m/s" in output
@@ -412,34 +389,22 @@ def test_the_bare_console_script_on_a_terminal_runs_the_menu(tmp_path: Path) -> 
 
 
 def test_ctrl_c_at_a_prompt_on_a_terminal_exits_130(tmp_path: Path) -> None:
-    process, master = _spawn_on_a_terminal(tmp_path)
-    try:
+    with on_a_terminal([], tmp_path) as (process, master):
         read_until(master, b"case (1-8) [4]: ")
         os.write(master, b"4\n")
         read_until(master, b"initial position of the sphere")
         process.send_signal(signal.SIGINT)
         status, err = finish(process)
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
-        os.close(master)
     assert status == 130
     assert b"interrupted" in err
     assert b"Traceback" not in err
 
 
 def test_end_of_input_on_a_terminal_exits_1(tmp_path: Path) -> None:
-    process, master = _spawn_on_a_terminal(tmp_path)
-    try:
+    with on_a_terminal([], tmp_path) as (process, master):
         read_until(master, b"case (1-8) [4]: ")
         os.write(master, b"\x04")  # Ctrl-D at the start of a line: end of input
         status, err = finish(process)
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
-        os.close(master)
     assert status == 1
     assert b"end of input" in err
     assert b"Traceback" not in err

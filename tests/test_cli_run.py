@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import itertools
 import math
-import os
-import pty
 import signal
 import subprocess
 import sys
@@ -19,7 +17,7 @@ from typing import Any
 import pytest
 
 from collisionlab.demos import LAB_DEMOS, demo_names
-from tests.cli_helpers import EXAMPLE_NAMES, SCRIPT, example, files_in, finish, read_until, run_cli
+from tests.cli_helpers import EXAMPLE_NAMES, SCRIPT, example, files_in, finish, on_a_terminal, read_until, run_cli
 
 
 def events(name: str, *options: str) -> list[dict[str, Any]]:
@@ -450,27 +448,13 @@ def test_the_console_script_reports_bad_data_with_65_and_no_traceback(tmp_path: 
 def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: Path) -> None:
     # A terminal on stdin makes the run draw its progress bar (after a second): once it shows, the
     # run is under way; Ctrl-C then must leave neither the output file nor a temporary one.
-    master, slave = pty.openpty()
     target = tmp_path / "out.txt"
-    process = subprocess.Popen(
-        [str(SCRIPT), "demo", "spheres", "--steps", "100000000", "--quiet", "--output", str(target)],
-        stdin=slave,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        cwd=tmp_path,
-        close_fds=True,
-    )
-    os.close(slave)
-    try:
+    argv = ["demo", "spheres", "--steps", "100000000", "--quiet", "--output", str(target)]
+    with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
         assert process.stderr is not None
         read_until(process.stderr.fileno(), b"/100000000")
         process.send_signal(signal.SIGINT)
         status, err = finish(process)
-    finally:
-        if process.poll() is None:
-            process.kill()
-            process.wait()
-        os.close(master)
     assert status == 130
     assert b"Traceback" not in err
     assert files_in(tmp_path) == []
