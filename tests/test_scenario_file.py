@@ -222,8 +222,12 @@ def test_a_sphere_is_written_with_its_radius() -> None:
 
 # --- fuzz: whatever a file holds, the answer is a scenario or one ScenarioError ------------------
 _LEAVES = st.one_of(
-    st.none(), st.booleans(), st.integers(-5, 5), st.floats(allow_nan=True, allow_infinity=True),
-    st.text(max_size=6), st.sampled_from(["circle", "sphere", "aabb", "line", "plane", "euler", "exact"]),
+    st.none(),
+    st.booleans(),
+    st.integers(-5, 5),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=6),
+    st.sampled_from(["circle", "sphere", "aabb", "line", "plane", "euler", "exact"]),
 )
 _VALUES = st.recursive(_LEAVES, lambda inner: st.lists(inner, max_size=4), max_leaves=8)
 _KEYS = st.sampled_from(
