@@ -11,6 +11,7 @@ __all__ = [
     "CONTACT_MARGIN",
     "CONTACT_SLOP",
     "FALLBACK_NORMAL",
+    "PICTURE_MIN_SPAN",
     "REST_SPEED",
     "SOLVER_MARGIN",
 ]
@@ -52,3 +53,7 @@ REST_SPEED: float = 1e-3
 #: lies on a static obstacle (resting contact, exact mode). Larger than ``CONTACT_SLOP`` so that
 #: the push-apart gap never reads as a separation.
 CONTACT_MARGIN: float = 1e-7
+
+#: Metres. The smallest extent a picture's view covers: a scene that does not move (or a single
+#: point) still gets a view of this size, so no axis or aspect ratio divides by zero.
+PICTURE_MIN_SPAN: float = 1e-6

@@ -31,7 +31,7 @@ class ProgressBar:
         self.last_draw = now
         width = 30
         filled = int(width * done / max(total, 1))
-        rate = done / max(now - self.started, 1e-9)
+        rate = done / (now - self.started)  # > SHOW_AFTER here: never zero
         self.streams.stderr.write(
             f"\r{self.label} [{'#' * filled}{'.' * (width - filled)}] {done}/{total} ({rate:,.0f}/s)"
         )

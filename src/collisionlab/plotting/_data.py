@@ -19,6 +19,7 @@ from ..errors import InvalidInputError
 from ..model import Scenario
 from ..record import CollisionEvent, RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
+from ..tolerances import PICTURE_MIN_SPAN
 from ..vector import Vector3D
 
 __all__ = [
@@ -98,7 +99,7 @@ class Bounds:
     @property
     def span(self) -> float:
         """The largest edge (m), never 0."""
-        return float(max(np.max(self.high - self.low), 1e-9))
+        return float(max(np.max(self.high - self.low), PICTURE_MIN_SPAN))
 
     def cube(self) -> Bounds:
         """A cube of edge :attr:`span` about the same centre (equal axes in 3D)."""
@@ -227,7 +228,7 @@ class RunArrays:
             if isinstance(fixed, (Line, Plane)):
                 p = _closest_point(fixed, center)
                 low, high = np.minimum(low, p), np.maximum(high, p)
-        span = float(max(np.max(high - low), 1e-6))
+        span = float(max(np.max(high - low), PICTURE_MIN_SPAN))
         margin = 0.1 * span
         low, high = low - margin, high + margin
         if self.record.dims == 2:

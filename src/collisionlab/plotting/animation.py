@@ -200,7 +200,8 @@ def _sphere_quads(radius: float, color: str, n_u: int = 18, n_v: int = 10) -> tu
     grid = np.stack([x, y, z], axis=-1)
     quads = np.stack([grid[:-1, :-1], grid[:-1, 1:], grid[1:, 1:], grid[1:, :-1]], axis=2).reshape(-1, 4, 3)
     normals = quads.mean(axis=1)
-    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-12)
+    lengths = np.linalg.norm(normals, axis=1, keepdims=True)
+    normals /= np.where(lengths > 0.0, lengths, 1.0)  # a degenerate quad keeps a zero normal
     light = np.array([0.1, -0.8, 0.9]) / np.linalg.norm([0.1, -0.8, 0.9])  # toward the default camera, above
     shade = 0.35 + 0.65 * np.clip(normals @ light, 0.0, 1.0)
     colors = np.clip(np.outer(shade, to_rgb(color)), 0.0, 1.0)

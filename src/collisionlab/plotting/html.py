@@ -35,6 +35,7 @@ from ..atomic import atomic_path
 from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane
+from ..tolerances import PICTURE_MIN_SPAN
 from ._data import (
     BOX_TRIANGLES,
     Array,
@@ -215,7 +216,7 @@ def build_figure(record: RunRecord, scenario: Scenario) -> tuple[Any, RunArrays]
         cube = bounds.cube()
         low, high = cube.low, cube.high
         camera = {"up": {"x": 0, "y": 1, "z": 0}, "eye": {"x": 1.2, "y": 0.9, "z": 1.5}}
-    ratio = (high - low) / max(float(np.max(high - low)), 1e-12)
+    ratio = (high - low) / max(float(np.max(high - low)), PICTURE_MIN_SPAN)
     subtitle = (f"{record.mode} mode, dt = {record.dt:g} s, {record.steps} steps, e = {record.restitution:g}, "
                 f"{len(record.events)} collision{'s' if len(record.events) != 1 else ''}")  # fmt: skip
     layout = go.Layout(

@@ -33,6 +33,7 @@ from ..atomic import atomic_path
 from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
+from ..tolerances import PICTURE_MIN_SPAN
 from ._data import (
     Array,
     Bounds,
@@ -73,9 +74,9 @@ def setup_view(ax: Any, bounds: Bounds, dims: int) -> None:
         # Widen the shorter data range to the axes' own shape, so equal axes fill the panel.
         box = ax.get_position()
         fig_w, fig_h = ax.figure.get_size_inches()
-        screen_ratio = (box.height * fig_h) / max(box.width * fig_w, 1e-9)
+        screen_ratio = (box.height * fig_h) / (box.width * fig_w)  # a panel has a size
         (x0, y0), (x1, y1) = bounds.low[:2], bounds.high[:2]
-        cx, cy, w, h = (x0 + x1) / 2, (y0 + y1) / 2, max(x1 - x0, 1e-9), max(y1 - y0, 1e-9)
+        cx, cy, w, h = (x0 + x1) / 2, (y0 + y1) / 2, max(x1 - x0, PICTURE_MIN_SPAN), max(y1 - y0, PICTURE_MIN_SPAN)
         if h / w < screen_ratio:
             h = w * screen_ratio
         else:
