@@ -326,3 +326,25 @@ def test_exact_discs_in_a_box_never_overlap_or_escape(count, seed, e):
             assert abs(state.position.x) <= 5 - r + 1e-9 and abs(state.position.y) <= 5 - r + 1e-9
     if e == 1.0:
         assert record.ledger.kinetic_end == pytest.approx(record.ledger.kinetic_start, rel=1e-9)
+
+
+def test_exact_ball_slides_off_a_moving_crate_smoothly():
+    # A ball dropped onto a crate that slides (no friction) at 0.3 m/s: it bounces to rest on the
+    # crate's top, rides it until the crate's edge passes under it, slides over the edge (a curved
+    # support of radius 0.4) and falls to the floor. No friction and a floor that pushes only
+    # along y: horizontal momentum is conserved, the contact forces do no work (integrator ~ 0), and
+    # the slide over the edge is a few contacts, not a run of tiny hops.
+    crate = Body("crate", AABB.from_center_size((0, 2, 0), (1, 1, 1)), velocity=(0.3, 0, 0))
+    ball = Body("ball", Sphere((0.2, 4, 0), 0.4), velocity=(0, 0, 0))
+    scenario = _scenario([crate, ball], [FLOOR], dt=0.01, steps=400, restitution=0.5, gravity=(0, -9.81, 0),
+                         mode="exact")  # fmt: skip
+    record = simulate(scenario)
+    assert record.ledger.momentum_end.x == pytest.approx(0.3, abs=1e-12)
+    assert abs(record.ledger.integrator) < 1e-9
+    assert record.ledger.max_penetration <= CONTACT_SLOP
+    slide = [e for e in record.events if e.bodies == ("crate", "ball") and e.time > 2.0]
+    assert len(slide) < 10
+    final = {b.name: b for b in record.frames[-1].bodies}
+    assert final["ball"].position.y == pytest.approx(0.4, abs=CONTACT_MARGIN)
+    assert abs(final["ball"].velocity.y) <= REST_SPEED
+    assert final["ball"].velocity.x < 0 < final["crate"].velocity.x  # pushed apart by the slide

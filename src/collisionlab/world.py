@@ -31,6 +31,7 @@ distance grows beyond ``CONTACT_MARGIN``, and further impulses meanwhile are not
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -111,6 +112,8 @@ class World:
         self._touching: set[_Pair] = set()
         #: Unit normals of what each resting body lies on (exact mode; found each sub-step).
         self._supports: dict[int, list[Vector3D]] = {}
+        #: Longest sub-step before a body sliding on a curved support must be looked at again.
+        self._slide_limit = math.inf
         #: Bodies whose velocity an impulse changed since this was last cleared (exact mode).
         self._kicked: set[int] = set()
         self._tunnel_warned = False
@@ -241,6 +244,30 @@ class World:
             self._touching.add(pair)
         return vn
 
+    def _close_gap(self, pair: _Pair, normal: Vector3D, gap: float) -> None:
+        """Bring a body sliding on a curved support back onto it (a gap below ``CONTACT_MARGIN``),
+        shared between the two as an impulse would be (:meth:`_response`). The potential energy
+        this changes goes to the ledger's push-apart."""
+        energy_before = self.energy()
+        dir_a, inverse_a = (_ZERO, 0.0) if pair.static else self._response(pair.a, -normal)
+        dir_b, inverse_b = self._response(pair.b, normal)
+        share = gap / (inverse_a + inverse_b)
+        if not pair.static:
+            self.positions[pair.a] = self.positions[pair.a] - dir_a * (share / self.bodies[pair.a].mass)
+        self.positions[pair.b] = self.positions[pair.b] - dir_b * (share / self.bodies[pair.b].mass)
+        self.record.ledger.push_apart += self.energy() - energy_before
+
+    def _support_radius(self, pair: _Pair, normal: Vector3D) -> float:
+        """Radius of curvature of the surface the pair slides on (the Minkowski sum of the two
+        shapes): ``r_a + r_b`` for two balls, the ball's radius on a box's edge or corner (a normal
+        off the axes), ``math.inf`` when flat (a plane, a line, a box face, two boxes)."""
+        radii = [s.radius for s in (self._shape_a(pair), self.shape(pair.b)) if isinstance(s, (Circle, Sphere))]
+        if len(radii) == 2:
+            return radii[0] + radii[1]
+        if len(radii) == 1 and sum(1 for c in normal if c != 0.0) >= 2:
+            return radii[0]
+        return math.inf
+
     def _kick(self, pair: _Pair, normal: Vector3D, impulse: Callable[[float], float]) -> tuple[float, float, float]:
         """Apply the impulse ``impulse(1/m_a + 1/m_b)`` along ``normal`` (A gets minus it), with
         supports taking their share (:meth:`_response`); the kinetic energy it changes goes to
@@ -350,7 +377,7 @@ class World:
         self.step_index += 1  # events of this step carry its number, as in euler mode
         elapsed = 0.0
         ignored: set[_Pair] = set()
-        impacts = 0
+        impacts = slides = 0
         # Times of impact found this step, as (time from the step's start, impact): the motion
         # between impacts is known exactly, so a pair stays valid until one of its bodies is
         # kicked or its acceleration changes (event-driven stepping, as in molecular dynamics).
@@ -376,6 +403,12 @@ class World:
                 entry = found[pair]
                 if entry is not None and (best is None or entry[0] < best[1]):
                     best = (pair, entry[0], entry[1])
+            limit = self._slide_limit
+            if limit < remaining and slides < MAX_IMPACTS_PER_STEP and (best is None or best[1] - elapsed > limit):
+                self._advance(limit, accelerations)  # then look at the sliding contacts again
+                elapsed += limit
+                slides += 1
+                continue
             if best is None or impacts >= MAX_IMPACTS_PER_STEP:
                 if best is not None and not self._impact_limit_warned:
                     self._impact_limit_warned = True
@@ -489,10 +522,11 @@ class World:
         gravity = self.scenario.settings.gravity
         accelerations = [gravity] * len(self.bodies)
         resting: set[_Pair] = set()
+        self._slide_limit = math.inf
         if gravity == _ZERO:
             return accelerations, resting
-        supported = [False] * len(self.bodies)
         self._supports = {}
+        self._slide_limit = math.inf
         for _ in range(len(self.bodies) + 1):  # a stack of k bodies settles in k passes
             changed = False
             for pair in self._pairs:
@@ -500,29 +534,37 @@ class World:
                 n = sep.normal  # from A to B
                 if sep.distance > CONTACT_MARGIN:
                     continue
-                vn = (self.velocities[pair.b] - self._velocity_a(pair)).dot(n)
+                relative = self.velocities[pair.b] - self._velocity_a(pair)
+                vn = relative.dot(n)
                 a_a = _ZERO if pair.static else accelerations[pair.a]
                 pressing = (accelerations[pair.b] - a_a).dot(n)
                 if abs(vn) > REST_SPEED or pressing >= 0.0:
                     continue
+                radius = self._support_radius(pair, n)
+                if radius < math.inf:  # a curved support (a ball, a box's edge): can it hold the body?
+                    sliding = (relative - n * vn).length()
+                    if sliding * sliding / radius > -pressing:
+                        continue  # too fast to follow the curve: it leaves the surface, in free flight
+                    if sliding > 0.0:  # re-check before the straight path drifts half CONTACT_MARGIN off
+                        self._slide_limit = min(self._slide_limit, math.sqrt(radius * CONTACT_MARGIN) / sliding)
+                    if sep.distance > 0.0:  # and close the drift, so the gaps of many re-checks do not add up
+                        self._close_gap(pair, n, sep.distance)
                 if vn < 0.0:  # a slow approach: e = 0 (below REST_SPEED), an event if it is new
                     self._resolve(pair, n, sep.point, time)
                 elif vn > 0.0:  # a slow lift-off would float on with gravity cancelled: stop it
                     self._kick(pair, n, functools.partial(_stopping_impulse, vn))
-                if pair.static or (supported[pair.a] and not supported[pair.b]):
-                    accelerations[pair.b] = accelerations[pair.b] - n * pressing
-                    supported[pair.b] = True
+                # The contact force that cancels the pressing acceleration, shared as an impulse
+                # would be (a body on a support passes the part along its normal on to it).
+                dir_a, inverse_a = (_ZERO, 0.0) if pair.static else self._response(pair.a, -n)
+                dir_b, inverse_b = self._response(pair.b, n)
+                force = -pressing / (inverse_a + inverse_b)
+                if not pair.static:
+                    accelerations[pair.a] = accelerations[pair.a] + dir_a * (force / self.bodies[pair.a].mass)
+                accelerations[pair.b] = accelerations[pair.b] + dir_b * (force / self.bodies[pair.b].mass)
+                if pair.static or pair.a in self._supports:
                     self._supports.setdefault(pair.b, []).append(n)
-                elif supported[pair.b] and not pair.static and not supported[pair.a]:
-                    accelerations[pair.a] = accelerations[pair.a] + n * pressing
-                    supported[pair.a] = True
+                elif pair.b in self._supports:
                     self._supports.setdefault(pair.a, []).append(-n)
-                else:
-                    inverse_a = 1.0 / self.bodies[pair.a].mass
-                    inverse_b = 1.0 / self.bodies[pair.b].mass
-                    share = pressing / (inverse_a + inverse_b)
-                    accelerations[pair.a] = accelerations[pair.a] + n * (share * inverse_a)
-                    accelerations[pair.b] = accelerations[pair.b] - n * (share * inverse_b)
                 resting.add(pair)
                 changed = True
             if not changed:
