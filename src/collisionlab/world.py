@@ -518,7 +518,15 @@ class World:
         acceleration: on a static obstacle the body's normal acceleration; between two bodies the
         relative one, taken by the body that is not yet supported (or shared by inverse mass).
         Passes repeat, so a stack settles from its support up (Gauss-Seidel on accelerations).
-        Resting pairs are left out of the time-of-impact search for that sub-step."""
+        Resting pairs are left out of the time-of-impact search for that sub-step.
+
+        The contact force is shared as an impulse would be (:meth:`_response`): a body already
+        on a support passes the part along the support's normal on to it, so a support pushes
+        only along its own normal. On a curved support (two balls, a ball on a box's edge or
+        corner, radius of curvature ``R``) a body sliding at ``v_t`` stays only while
+        ``v_t^2 / R`` is below the pressing acceleration (else it flies off); the sub-step is
+        then cut to ``sqrt(R CONTACT_MARGIN) / v_t`` and the small drift closed, so the body
+        follows the surface instead of hopping along it."""
         gravity = self.scenario.settings.gravity
         accelerations = [gravity] * len(self.bodies)
         resting: set[_Pair] = set()
