@@ -2,7 +2,7 @@
 
 :class:`ParticleWorld` holds N discs (2D) or spheres (3D) as arrays and steps them with the
 scalar core's impulse law; :func:`grid_pairs` is its broad phase as a stateless query;
-:func:`gas_scenario` builds the benchmark's gas. numba (the ``fast`` extra) makes it about a
+:func:`gas_scenario` builds the benchmark's gas. numba (a dependency; optional at run time) makes it about a
 hundred times faster; without it the same numbers come from plain numpy.
 """
 

@@ -1,7 +1,8 @@
 """Which implementation of the particle kernels runs: compiled (numba) or plain numpy.
 
-numba is optional (the ``fast`` extra). ``"auto"`` takes it when it imports, else numpy; both
-give the same numbers to the last bit, numba about two orders of magnitude faster.
+numba is a dependency, but optional at run time (where it cannot be installed, the numpy path
+still works). ``"auto"`` takes numba when it imports, else numpy; both give the same numbers to
+the last bit, numba about 15 times faster (20.9 M against 1.3 M body-steps/s at 2,000 discs).
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ def pick_backend(name: str) -> str:
         return "numpy"
     if compiled_kernels() is None:
         if name == "numba":
-            raise InvalidInputError("backend", "numba is not installed (pip install 'collisionlab[fast]')")
+            raise InvalidInputError("backend", "numba is not installed (pip install numba)")
         return "numpy"
     return "numba"
 
