@@ -136,9 +136,10 @@ def render_csv(record: RunRecord, every: int = 1) -> str:
     for frame in record.frames:
         if frame.step % every and frame.step != record.steps:
             continue
-        row: list[object] = [frame.step, repr(frame.time)]
+        row: list[object] = [frame.step, f"{frame.time:.15g}"]
         for body in frame.bodies:
-            row += [repr(c) for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
+            # 15 significant digits: every digit a double holds for sure (JSON keeps all 17).
+            row += [f"{c:.15g}" for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
         writer.writerow(row)
     return buffer.getvalue()
 
