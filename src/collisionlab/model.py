@@ -99,6 +99,9 @@ class Scenario:
     bodies: tuple[Body, ...]
     obstacles: tuple[Obstacle, ...] = ()
     title: str = "scenario"
+    #: Whether bodies may start overlapping (the first step then pushes them apart, with a
+    #: warning); otherwise such a scenario is refused when its world is built.
+    allow_initial_overlap: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "bodies", tuple(self.bodies))

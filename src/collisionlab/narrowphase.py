@@ -22,14 +22,13 @@ mirrored, so ``contact(b, a) == contact(a, b).flipped()`` always holds for it.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
 from .contact import Contact, Separation
+from .engine import geometry_kernels as gk
 from .errors import UnsupportedPairError
 from .shapes import AABB, Circle, Line, Plane, Shape, Sphere
-from .tolerances import FALLBACK_NORMAL
 from .vector import Vector3D
 
 __all__ = [
@@ -49,69 +48,37 @@ __all__ = [
     "supported_pairs",
 ]
 
-_FALLBACK = Vector3D(*FALLBACK_NORMAL)
-_AXES = (Vector3D(1, 0, 0), Vector3D(0, 1, 0), Vector3D(0, 0, 1))
+
+# --- the kernels (written once, in collisionlab.engine.geometry_kernels) ----------------------
+def _separation(values: tuple[float, ...]) -> Separation:
+    distance, nx, ny, nz, px, py, pz = values
+    return Separation(distance, Vector3D(nx, ny, nz), Vector3D(px, py, pz))
 
 
-# --- shared kernels -----------------------------------------------------------------------------
+def _corners(box: AABB) -> tuple[float, float, float, float, float, float]:
+    return (*box.min_corner.as_tuple(), *box.max_corner.as_tuple())
+
+
 def _balls(ca: Vector3D, ra: float, cb: Vector3D, rb: float) -> Separation:
-    """Two balls: ``d = |p2 - p1| - (r1 + r2)`` (lab eqs. 1-2; Ericson 4.3.1)."""
-    delta = cb - ca
-    length = delta.length()
-    normal = delta / length if length > 0.0 else _FALLBACK
-    # Midpoint of the two surface points, written symmetrically in a and b.
-    point = (ca + cb) * 0.5 + normal * ((ra - rb) * 0.5)
-    return Separation(length - (ra + rb), normal, point)
+    """Two balls (lab eqs. 1-2; Ericson 4.3.1)."""
+    return _separation(gk.separation_ball_ball(ca.x, ca.y, ca.z, ra, cb.x, cb.y, cb.z, rb))
 
 
 def _boundary_ball(origin: Vector3D, unit_normal: Vector3D, center: Vector3D, radius: float) -> Separation:
-    """A line or plane and a ball: ``s = n.(Q - P)``, ``d = |s| - r`` (lab eqs. 6-9)."""
-    s = unit_normal.dot(center - origin)
-    normal = -unit_normal if s < 0.0 else unit_normal
-    closest_on_boundary = center - unit_normal * s  # lab eq. 8: S = Q - Proj_n(PQ)
-    point = (closest_on_boundary + center - normal * radius) * 0.5
-    return Separation(abs(s) - radius, normal, point)
+    """A line or plane and a ball (lab eqs. 6-9)."""
+    return _separation(
+        gk.separation_boundary_ball(*origin.as_tuple(), *unit_normal.as_tuple(), *center.as_tuple(), radius)
+    )
 
 
 def _boundary_box(origin: Vector3D, unit_normal: Vector3D, box: AABB) -> Separation:
-    """A line or plane and a box (Ericson 5.2.3): the box's projected radius on the normal is
-    ``h = sum_i |n_i| e_i`` (``e`` the half size) and ``d = |n.(c - P)| - h``."""
-    center = box.center
-    s = unit_normal.dot(center - origin)
-    normal = -unit_normal if s < 0.0 else unit_normal
-    # The box vertex nearest the boundary, against the normal on every axis, taken from the
-    # corners themselves (not centre -+ half size, which rounds a corner 1 ulp off the boundary
-    # onto it). Then ``d = n.(vertex - P)``, which equals ``|s| - h`` exactly in real arithmetic.
-    vertex = Vector3D(
-        *(
-            (lo if n > 0.0 else hi) if n != 0.0 else c
-            for c, lo, hi, n in zip(center, box.min_corner, box.max_corner, normal, strict=True)
-        )
-    )
-    gap = normal.dot(vertex - origin)
-    return Separation(gap, normal, vertex - normal * (gap * 0.5))
+    """A line or plane and a box (Ericson 5.2.3)."""
+    return _separation(gk.separation_boundary_box(*origin.as_tuple(), *unit_normal.as_tuple(), *_corners(box)))
 
 
 def _ball_box(center: Vector3D, radius: float, box: AABB, dims: int) -> Separation:
-    """A ball and a box (Ericson 5.2.5): clamp the centre to the box to get the closest point
-    ``q``; ``d = |q - c| - r``. A centre inside the box leaves through the nearest face: the
-    normal is minus that face's outward normal and ``d = -(r + distance to the face)``."""
-    low, high = box.min_corner, box.max_corner
-    q = Vector3D(*(min(max(c, lo), hi) for c, lo, hi in zip(center, low, high, strict=True)))
-    delta = q - center
-    length = delta.length()
-    if length > 0.0:
-        normal = delta / length
-        return Separation(length - radius, normal, (center + normal * radius + q) * 0.5)
-    best_axis, best_sign, best_gap = 0, -1.0, math.inf
-    for axis in range(dims):
-        c, lo, hi = center.as_tuple()[axis], low.as_tuple()[axis], high.as_tuple()[axis]
-        for sign, gap in ((-1.0, c - lo), (1.0, hi - c)):
-            if gap < best_gap:
-                best_axis, best_sign, best_gap = axis, sign, gap
-    face_normal = _AXES[best_axis] * best_sign
-    point = center + face_normal * ((best_gap - radius) * 0.5)
-    return Separation(-(radius + best_gap), -face_normal, point)
+    """A ball and a box (Ericson 5.2.5)."""
+    return _separation(gk.separation_ball_box(*center.as_tuple(), radius, *_corners(box), dims))
 
 
 def _require_2d_box(box: AABB, other: str) -> None:
@@ -157,27 +124,7 @@ def separation_aabb_aabb(a: AABB, b: AABB) -> Separation:
     """
     if a.dim != b.dim:
         raise UnsupportedPairError("a 2D AABB and a 3D AABB: both boxes must have the same dimension")
-    dims = a.dim
-    a_lo, a_hi, b_lo, b_hi = (v.as_tuple() for v in (a.min_corner, a.max_corner, b.min_corner, b.max_corner))
-    gaps = [max(a_lo[i] - b_hi[i], b_lo[i] - a_hi[i]) for i in range(dims)]
-    if max(gaps) > 0.0:
-        direction = [0.0, 0.0, 0.0]
-        middle = [0.0, 0.0, 0.0]
-        for i in range(dims):
-            if a_hi[i] < b_lo[i]:
-                direction[i], middle[i] = b_lo[i] - a_hi[i], (a_hi[i] + b_lo[i]) * 0.5
-            elif b_hi[i] < a_lo[i]:
-                direction[i], middle[i] = b_hi[i] - a_lo[i], (b_hi[i] + a_lo[i]) * 0.5
-            else:
-                middle[i] = (max(a_lo[i], b_lo[i]) + min(a_hi[i], b_hi[i])) * 0.5
-        gap_vector = Vector3D(*direction)
-        length = gap_vector.length()
-        return Separation(length, gap_vector / length, Vector3D(*middle))
-    axis = min(range(dims), key=lambda i: -gaps[i])
-    offset = (b.center - a.center).as_tuple()[axis]
-    normal = _AXES[axis] * (-1.0 if offset < 0.0 else 1.0)
-    middle = [(max(a_lo[i], b_lo[i]) + min(a_hi[i], b_hi[i])) * 0.5 for i in range(3)]
-    return Separation(gaps[axis], normal, Vector3D(*middle))
+    return _separation(gk.separation_box_box(*_corners(a), *_corners(b), a.dim))
 
 
 def separation_line_circle(a: Line, b: Circle) -> Separation:

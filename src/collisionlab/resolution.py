@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+from .engine.geometry_kernels import impulse_magnitude
 from .errors import InvalidInputError
 from .validate import non_negative, positive_or_inf
 from .vector import Vector3D, VectorLike, as_vector
@@ -35,13 +36,8 @@ def reflect_velocity(velocity: VectorLike, normal: VectorLike, restitution: floa
     v = as_vector(velocity, "velocity")
     n = as_vector(normal, "normal").normalized("normal")
     e = non_negative(restitution, "restitution")
-    return v - n * ((1.0 + e) * v.dot(n))
-
-
-def impulse_magnitude(relative_normal_speed: float, inverse_mass_sum: float, restitution: float) -> float:
-    """``j = -(1 + e) v_n / (1/m_a + 1/m_b)``: the impulse that turns the relative normal
-    velocity ``v_n`` into ``-e v_n`` (lab eq. 15 along the normal)."""
-    return -(1.0 + restitution) * relative_normal_speed / inverse_mass_sum
+    # A static surface has infinite mass: 1/m_a + 1/m_b = 1/m, and v += (j/m) n with j/m as below.
+    return v + n * impulse_magnitude(v.dot(n), 1.0, e)
 
 
 def resolve_collision(

@@ -16,18 +16,33 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from .errors import CollisionLabError, InvalidInputError
+from .gas_table import GasSpec, gas_count, place_gas
 from .model import Body, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere
-from .validate import non_negative, positive
+from .validate import non_negative, positive, whole_number
 from .vector import Vector3D, as_vector
 
 __all__ = ["ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
 
 T = TypeVar("T")
 
-_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title"}
+_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title", "allow_initial_overlap"}
 _BODY_KEYS = {"name", "shape", "position", "radius", "size", "velocity", "mass", "restitution"}
 _STATIC_KEYS = {"name", "shape", "point", "normal", "points", "direction", "position", "size", "restitution"}
+_GAS_KEYS = {
+    "name",
+    "shape",
+    "radius",
+    "size",
+    "region",
+    "count",
+    "fraction",
+    "mass",
+    "kT",
+    "velocity",
+    "restitution",
+    "seed",
+}
 _BODY_SHAPES = ("circle", "sphere", "aabb")
 _STATIC_SHAPES = ("line", "plane", "aabb")
 
@@ -153,21 +168,85 @@ def _static(source: str, data: object, index: int) -> Obstacle:
     return Obstacle(name, shape, restitution)
 
 
+def _gas(source: str, data: object, index: int) -> list[Body]:
+    """A ``[[gas]]`` table: many bodies placed without overlap (:mod:`collisionlab.gas_table`)."""
+    field = f"gas[{index}]"
+    table = _table(source, data, field, _GAS_KEYS)
+    kind = _shape_kind(source, table, field, _BODY_SHAPES)
+    name = _name(source, table, field, f"gas{index + 1}-")
+    corners = _get(source, table, field, "region")
+    if not isinstance(corners, list) or len(corners) != 2:
+        raise ScenarioError(source, f"{field}.region", "must be two opposite corners [[x0, y0, z0], [x1, y1, z1]]")
+    where = f"{field}.region"
+    low, high = (_check(source, functools.partial(as_vector, c, where), where) for c in corners)
+    dims = 2 if kind == "circle" or (low.z == 0.0 and high.z == 0.0 and kind == "aabb") else 3
+    if any(h <= lo for lo, h in list(zip(low, high, strict=True))[:dims]):
+        raise ScenarioError(source, where, "the second corner must be above the first on every axis")
+    if kind == "aabb":
+        size = _vector(source, table, field, "size")
+        half = tuple(0.5 * c for c in size.as_tuple())
+        if any(h <= 0.0 for h in half[:dims]):
+            raise ScenarioError(source, f"{field}.size", "must be > 0 on every axis", got=size.as_tuple()[:dims])
+    else:
+        radius = _number(source, table, field, "radius", positive)
+        half = (radius, radius, radius)
+    if ("count" in table) == ("fraction" in table):
+        raise ScenarioError(source, f"{field}.count", "give either count or fraction (of the region filled)")
+    if "count" in table:
+        count = _check(source, lambda: whole_number(table["count"], f"{field}.count"), f"{field}.count")
+    else:
+        fraction = _number(source, table, field, "fraction", positive)
+        sizes = tuple(h - lo for lo, h in list(zip(low, high, strict=True))[:dims])
+        count = max(1, gas_count(kind, half, sizes, fraction))  # type: ignore[arg-type]
+    mass = _number(source, table, field, "mass", positive) if "mass" in table else 1.0
+    if "kT" in table and "velocity" in table:
+        raise ScenarioError(source, f"{field}.kT", "give either kT (Maxwell-Boltzmann velocities) or velocity")
+    kt = _number(source, table, field, "kT", non_negative) if "kT" in table else None
+    velocity = _vector(source, table, field, "velocity").as_tuple() if "velocity" in table else None
+    if kt is None and velocity is None:
+        kt = 1.0
+    seed = _check(source, lambda: whole_number(table.get("seed", 0), f"{field}.seed", minimum=0), f"{field}.seed")
+    spec = GasSpec(
+        name,
+        kind,
+        half,  # type: ignore[arg-type]
+        (low.as_tuple(), high.as_tuple()),
+        count,
+        mass,
+        kt,
+        velocity,
+        _optional(source, table, field, "restitution"),
+        seed,
+    )
+    return _check(source, lambda: place_gas(spec, field), field)
+
+
 def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: str | None = None) -> Scenario:
     """A :class:`Scenario` from parsed TOML data (a dict as ``tomllib`` gives)."""
-    _table(source, data, "scenario", {"simulation", "body", "static"})
+    _table(source, data, "scenario", {"simulation", "body", "static", "gas"})
     sim = _table(source, data.get("simulation", {}), "simulation", _SIMULATION_KEYS)
-    given = {key: value for key, value in sim.items() if key != "title"}
+    given = {key: value for key, value in sim.items() if key not in ("title", "allow_initial_overlap")}
+    allow_overlap = sim.get("allow_initial_overlap", False)
+    if not isinstance(allow_overlap, bool):
+        raise ScenarioError(source, "simulation.allow_initial_overlap", "must be true or false", got=allow_overlap)
     names = {key: f"simulation.{key}" for key in _SIMULATION_KEYS}
     settings = _check(source, lambda: Settings(**given), "simulation", names)
     bodies_data = data.get("body", [])
     statics_data = data.get("static", [])
-    for key, value in (("body", bodies_data), ("static", statics_data)):
+    gases_data = data.get("gas", [])
+    for key, value in (("body", bodies_data), ("static", statics_data), ("gas", gases_data)):
         if not isinstance(value, list):
             raise ScenarioError(source, key, f"must be an array of tables, written [[{key}]]")
     bodies = [_body(source, b, i) for i, b in enumerate(bodies_data)]
+    gas_fields: list[str] = []
+    for index, table in enumerate(gases_data):
+        placed = _gas(source, table, index)
+        bodies += placed
+        gas_fields += [f"gas[{index}]"] * len(placed)
     statics = [_static(source, s, i) for i, s in enumerate(statics_data)]
-    fields = [f"body[{i}]" for i in range(len(bodies))] + [f"static[{i}]" for i in range(len(statics))]
+    fields = (
+        [f"body[{i}]" for i in range(len(bodies_data))] + gas_fields + [f"static[{i}]" for i in range(len(statics))]
+    )
     seen: set[str] = set()
     things: list[Body | Obstacle] = [*bodies, *statics]
     for thing, where in zip(things, fields, strict=True):
@@ -180,7 +259,9 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
     # The scenario's own checks name a body (a pair that cannot collide), ``gravity`` or ``body``.
     names = {b.name: f"{where}.shape" for b, where in zip(bodies, fields, strict=False)}
     names.update({"gravity": "simulation.gravity", "body": "body"})
-    return _check(source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name), "scenario", names)
+    return _check(
+        source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name, allow_overlap), "scenario", names
+    )
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -250,6 +331,8 @@ def scenario_to_toml(scenario: Scenario) -> str:
         f"gravity = {_vec(s.gravity)}",
         f"mode = {_str(s.mode)}",
     ]
+    if scenario.allow_initial_overlap:
+        lines.append("allow_initial_overlap = true")
     for body in scenario.bodies:
         shape = body.shape
         lines += ["", "[[body]]", f"name = {_str(body.name)}"]

@@ -7,6 +7,7 @@ names; no bare epsilon literal appears anywhere else in the package.
 from __future__ import annotations
 
 __all__ = [
+    "BROADPHASE_WIDEN",
     "COLLINEAR_SINE",
     "CONTACT_MARGIN",
     "CONTACT_SLOP",
@@ -57,3 +58,8 @@ CONTACT_MARGIN: float = 1e-7
 #: Metres. The smallest extent a picture's view covers: a scene that does not move (or a single
 #: point) still gets a view of this size, so no axis or aspect ratio divides by zero.
 PICTURE_MIN_SPAN: float = 1e-6
+
+#: Dimensionless. The broad phase's quick test of two balls compares squared distances, which
+#: round differently from the narrow phase's distance; it is widened by this relative amount so
+#: that it never rejects a pair the exact test would accept (it only lets a few more through).
+BROADPHASE_WIDEN: float = 1e-12

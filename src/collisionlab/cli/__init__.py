@@ -13,6 +13,7 @@ from collections.abc import Sequence
 from .. import __version__
 from ..errors import CollisionLabError, InvalidInputError
 from ..scenario_file import ScenarioError
+from ..world import InitialOverlapError
 from . import gas_command
 from .menu import run_menu
 from .run_command import add_run_parsers
@@ -95,7 +96,7 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
         return EXIT_USAGE
     except SystemExit as stop:  # --help and argparse's own exits
         return stop.code if isinstance(stop.code, int) else EXIT_FAILURE
-    except ScenarioError as error:
+    except (ScenarioError, InitialOverlapError) as error:
         streams.err(f"collisionlab: invalid scenario: {error}")
         return EXIT_DATA
     except InvalidInputError as error:

@@ -141,7 +141,8 @@ def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Stream
             scenario = scenario.with_settings(**overrides)
         bar = ProgressBar(streams, scenario.title)
         try:
-            record = World(scenario).run(progress=bar)
+            # Frames are kept every --every steps only, so memory follows the output, not the run.
+            record = World(scenario, notify=streams.err).run(every=args.every, progress=bar)
         finally:
             bar.close()
         records.append(record)

@@ -18,9 +18,9 @@ import itertools
 import numpy as np
 from numpy.typing import NDArray
 
+from ..engine import step_kernels
 from ..errors import InvalidInputError
-from . import numpy_kernels
-from .backend import compiled_kernels, pick_backend
+from .backend import engine_kernels, pick_backend
 
 __all__ = ["CELLS_PER_BODY", "brute_force_pairs", "grid_pairs", "half_stencil", "max_cells"]
 
@@ -76,14 +76,28 @@ def grid_pairs(positions: object, radii: object, *, backend: str = "auto") -> ND
     [[0, 1], [2, 3]]
     """
     pos, rad = _as_balls(positions, radii)
-    stencil = half_stencil(pos.shape[1])
-    min_cell = 2.0 * float(rad.max())
-    if pick_backend(backend) == "numba":
-        kernels = compiled_kernels()
-        assert kernels is not None
-        pairs = kernels.find_pairs(pos, rad, stencil, min_cell, max_cells(pos.shape[0]))
-    else:
-        pairs = numpy_kernels.find_pairs(pos, rad, stencil, min_cell, max_cells(pos.shape[0]))
+    n, dim = pos.shape
+    kind = np.full(n, step_kernels.BALL_2D if dim == 2 else step_kernels.BALL_3D, np.int64)
+    pos3 = np.zeros((n, 3))
+    pos3[:, :dim] = pos
+    ext = np.repeat(rad[:, None], 3, axis=1)
+    no_statics = np.zeros((0, 3))
+    kernels = engine_kernels(pick_backend(backend))
+    pairs, _ = kernels.find_near(
+        kind,
+        pos3,
+        ext,
+        np.arange(n, dtype=np.int64),
+        np.zeros(0, np.int64),
+        no_statics,
+        no_statics,
+        half_stencil(dim),
+        dim,
+        2.0 * float(rad.max()),
+        max_cells(n),
+        0.0,
+    )
+    pairs = np.sort(np.asarray(pairs, np.int64), axis=1)
     return _sorted_pairs(np.asarray(pairs, np.int64))
 
 

@@ -1,44 +1,22 @@
 """``ParticleWorld``: many balls (discs in 2D, spheres in 3D) in a box of static walls, stepped fast.
 
-The state is a structure of float64 arrays: positions and velocities ``(n, dim)``, radii and
-inverse masses ``(n,)``. A step is, in this fixed order:
+A thin front of the engine for gases: the balls become a structure of arrays and each step is
+the engine's Forward Euler stepper (:mod:`collisionlab.engine.step_kernels`, compiled by numba),
+the same kernels, contact law and order as every other world: integrate, grid broad phase,
+contacts deepest first with ties broken by geometry, sequential impulses (``j = -(1 + e) v_n /
+(1/m_a + 1/m_b)``, e = 0 below the rest speed), push-apart to a gap of ``CONTACT_SLOP``. The box
+and ``planes`` are one-sided walls: the inside is ``n . x >= c`` and a ball past a wall is pushed
+back in, never out. No events are recorded here (a gas has millions); :meth:`step` counts them.
 
-1. forward Euler: ``x += v dt``, then ``v += g dt`` (bodies of finite mass);
-2. broad phase on a uniform grid (:mod:`collisionlab.particles.broadphase`), narrow phase: two
-   balls touch when ``|x_b - x_a| <= r_a + r_b``, a ball touches a wall ``n . x >= c`` when
-   ``n . x - c <= r`` (Ericson, *Real-Time Collision Detection*, 4.3.1 and 5.2.2); the impulse
-   solver also gets pairs within ``SOLVER_MARGIN`` of touching (see tolerances.py: balls left
-   ``CONTACT_SLOP`` apart by push-apart stay in contact, so a resting stack stays supported);
-3. the contacts are put in one order that depends on geometry only: deepest first, ties broken by
-   positions (lexicographically), body pairs before wall contacts, then the wall's number;
-4. impulses in that order, each computed from the velocities left by the ones before, with the
-   scalar core's law (:func:`collisionlab.resolution.resolve_collision`): ``n`` from a to b,
-   ``v_n = (v_b - v_a) . n``, nothing if ``v_n >= 0``, else ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``,
-   ``v_a -= (j/m_a) n``, ``v_b += (j/m_b) n``; a wall: ``v -= (1 + e)(v . n) n`` if ``v . n < 0``
-   (lab eq. 24). The sweep is repeated while it still applies an impulse, at most ``passes`` times;
-5. push-apart in that order, from current positions: a pair still overlapping by ``d >= 0`` moves
-   apart by ``d + CONTACT_SLOP`` shared in inverse proportion to mass
-   (:func:`collisionlab.resolution.separate`), a ball touching a wall moves out to ``CONTACT_SLOP``
-   from it; repeated like the impulses; finally every body touched is put back inside every wall.
-
-A pair (or a ball and a wall) that is the only contact of its bodies gets exactly the scalar
-core's single impulse and push-apart (a second sweep finds it separating), which the tests check
-to 1e-12. Gravity does not act on static bodies (mass ``math.inf``).
-
-Order independence: nothing in a step depends on the order in which bodies were given (step 3
-uses positions, never indices), so permuting the bodies permutes the result exactly. A sequential
-pass (Gauss-Seidel) was chosen over summing every impulse from the pre-step velocities (Jacobi):
-each two-body impulse with ``e = 1`` conserves kinetic energy exactly up to rounding, while a
-Jacobi sum over a ball touching two others at once does not: over 1000 steps of 10,000 discs the
-world's kinetic energy moved by 0 (to rounding), a Jacobi variant's by -8% (``bench/README.md``).
+Order independence: nothing in a step depends on the order in which bodies were given (contacts
+are ordered by depth and positions, never by index), so permuting the bodies permutes the result
+exactly. A sequential pass (Gauss-Seidel) was chosen over summing every impulse from the
+pre-step velocities (Jacobi): each two-body impulse with ``e = 1`` conserves kinetic energy
+exactly up to rounding, while a Jacobi sum over a ball touching two others at once does not.
 
 Limitation: this is a collision (event) model, not a contact solver with accumulated impulses.
-A tall heap under gravity with ``e`` well below 1 keeps visible overlaps (measured on 300 discs at
-area fraction 0.45, g = 1, e = 0: mean overlap of touching pairs about 0.3 radius); dilute and
-dense gases, and short stacks, are fine.
-
-Coincident centres use ``FALLBACK_NORMAL`` from the body whose position comes first; two bodies
-at exactly the same place are ordered by storage, the one case where order can matter.
+A tall heap under gravity with ``e`` well below 1 keeps visible overlaps (``bench/README.md``);
+dilute and dense gases, and short stacks, are fine.
 """
 
 from __future__ import annotations
@@ -50,12 +28,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from ..engine import step_kernels
+from ..engine.params import DEFAULT_PASSES, WorldParams
+from ..engine.world import stencil
 from ..errors import InvalidInputError
-from ..tolerances import SOLVER_MARGIN
 from ..validate import finite_number, non_negative, positive, whole_number
-from . import numpy_kernels
-from .backend import compiled_kernels, pick_backend
-from .broadphase import grid_pairs, half_stencil, max_cells
+from .backend import engine_kernels, pick_backend
+from .broadphase import grid_pairs, max_cells
 
 __all__ = ["DEFAULT_PASSES", "ParticleWorld", "Progress", "StepReport"]
 
@@ -63,11 +42,6 @@ FloatArray = NDArray[np.float64]
 
 #: ``progress(steps_done, steps_total)``, called by :meth:`ParticleWorld.step` between chunks.
 Progress = Callable[[int, int], None]
-
-#: Most sweeps over a step's contacts, for impulses and again for push-apart. A sweep that changes
-#: nothing ends them early, so a dilute gas makes about two; a resting heap needs several so that
-#: a ball pressed between a neighbour and the floor is pushed out within the step.
-DEFAULT_PASSES = 8
 
 #: Calls of ``progress`` per :meth:`ParticleWorld.step` at most (each call ends a compiled chunk).
 _PROGRESS_CHUNKS = 100
@@ -127,8 +101,8 @@ class ParticleWorld:
     ``box=(lo, hi)`` adds the ``2 * dim`` walls of an axis-aligned box; ``planes`` adds walls
     ``(normal, c)`` whose inside is ``normal . x >= c`` (the normal is normalised). ``radii`` and
     ``masses`` are one number or one per body; ``math.inf`` is a static (kinematic) body, moved
-    by its velocity only. ``backend`` is ``"auto"`` (numba if installed), ``"numba"`` or
-    ``"numpy"``.
+    by its velocity only. ``backend`` is ``"auto"`` (numba), ``"numba"`` or ``"python"`` (the
+    same kernels run as Python: slow, for small worlds and tests).
 
     >>> world = ParticleWorld([[0, 0], [3, 0]], [[1, 0], [-1, 0]], radii=1.0, box=((-5, -5), (8, 5)))
     >>> world.step(0.5, steps=2)   # they meet after 0.5 and swap velocities (equal masses, e = 1)
@@ -150,6 +124,7 @@ class ParticleWorld:
         gravity: Sequence[float] | None = None,
         passes: int = DEFAULT_PASSES,
         backend: str = "auto",
+        params: WorldParams | None = None,
     ) -> None:
         pos = _matrix(positions, "positions")
         n, dim = pos.shape
@@ -161,21 +136,36 @@ class ParticleWorld:
         e = non_negative(restitution, "restitution")  # > 1 is allowed: it adds energy (postlab Q4)
         g = np.zeros(dim) if gravity is None else _vector(gravity, "gravity", dim)
         normals, offsets = self._walls(box, planes, dim, float(rad.max()))
-        self._passes = whole_number(passes, "passes")
+        self._params = params or WorldParams(passes=whole_number(passes, "passes"))
         self._backend = pick_backend(backend)
         self._dim = int(dim)
-        self._pos, self._vel, self._rad, self._ima = pos, vel, rad, ima
+        self._pos = np.zeros((n, 3))
+        self._pos[:, :dim] = pos
+        self._vel = np.zeros((n, 3))
+        self._vel[:, :dim] = vel
+        self._ext = np.repeat(rad[:, None], 3, axis=1)
+        self._ima = ima
+        self._eb = np.full(n, math.nan)
+        self._kind = np.full(n, step_kernels.BALL_2D if dim == 2 else step_kernels.BALL_3D, np.int64)
         self._ids = np.arange(n, dtype=np.int64)
         self._planes_n, self._planes_c = normals, offsets
-        self._gravity = g
+        walls = normals.shape[0]
+        self._s_kind = np.full(walls, step_kernels.STATIC_WALL, np.int64)
+        self._s_a = np.zeros((walls, 3))
+        self._s_a[:, :dim] = normals * offsets[:, None]
+        self._s_b = np.zeros((walls, 3))
+        self._s_b[:, :dim] = normals
+        self._s_e = np.full(walls, math.nan)
+        self._gravity = np.zeros(3)
+        self._gravity[:dim] = g
         self._e = e
-        self._stencil = half_stencil(dim)
-        self._min_cell = 2.0 * float(rad.max()) + SOLVER_MARGIN
+        self._stencil = stencil(dim)
+        self._min_cell = 2.0 * float(rad.max()) + self._params.contact_margin
         self._max_cells = max_cells(n)
         self._time = 0.0
         self._steps = 0
         self._scratch: tuple[NDArray[np.generic], ...] = ()
-        self._contacts: tuple[NDArray[np.generic], ...] = ()
+        self._buffers: tuple[NDArray[np.generic], ...] = ()
 
     @staticmethod
     def _walls(
@@ -221,7 +211,7 @@ class ParticleWorld:
     def _unsorted(self, stored: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.empty_like(stored)
         out[self._ids] = stored
-        return out
+        return out[:, : self._dim] if out.ndim == 2 else out
 
     @property
     def n(self) -> int:
@@ -233,7 +223,7 @@ class ParticleWorld:
 
     @property
     def backend(self) -> str:
-        """``"numba"`` or ``"numpy"``."""
+        """``"numba"`` or ``"python"``."""
         return self._backend
 
     @property
@@ -248,7 +238,7 @@ class ParticleWorld:
 
     @property
     def radii(self) -> FloatArray:
-        return self._unsorted(self._rad)
+        return self._unsorted(self._ext[:, 0].copy())
 
     @property
     def masses(self) -> FloatArray:
@@ -281,19 +271,22 @@ class ParticleWorld:
     @property
     def nbytes(self) -> int:
         """Bytes of every array the world holds (state, scratch, grid and contact buffers)."""
-        arrays = (self._pos, self._vel, self._rad, self._ima, self._ids, *self._scratch, *self._contacts)
+        state = (self._pos, self._vel, self._ext, self._ima, self._eb, self._kind, self._ids)
+        arrays = (*state, *self._scratch, *self._buffers)
         return int(sum(a.nbytes for a in arrays))
 
     def kinetic_energy(self) -> float:
         """``sum(m |v|^2) / 2`` over bodies of finite mass."""
         finite = self._ima > 0.0
-        speed2 = np.einsum("ij,ij->i", self._vel[finite], self._vel[finite])
+        vel = self._vel[finite]
+        speed2 = np.einsum("ij,ij->i", vel, vel)
         return float(0.5 * np.sum(speed2 / self._ima[finite]))
 
     def momentum(self) -> FloatArray:
         """``sum(m v)`` over bodies of finite mass."""
         finite = self._ima > 0.0
-        return np.asarray(np.sum(self._vel[finite] / self._ima[finite, None], axis=0), np.float64)
+        total = np.sum(self._vel[finite] / self._ima[finite, None], axis=0)
+        return np.asarray(total[: self._dim], np.float64)
 
     def overlapping_pairs(self) -> NDArray[np.int64]:
         """Pairs ``(i, j)``, ``i < j``, of bodies touching now (indices as given), rows sorted."""
@@ -305,81 +298,79 @@ class ParticleWorld:
         1/100 of the run when ``progress`` is given, called as ``progress(done, steps)``)."""
         dt = positive(dt, "dt")
         steps = whole_number(steps, "steps", minimum=0)
-        stats = np.zeros(2, np.int64)
+        ledger = np.zeros(step_kernels.LEDGER_SIZE)
         chunk = steps if progress is None else max(1, -(-steps // _PROGRESS_CHUNKS))
         done = 0
         while done < steps:
             count = min(chunk, steps - done)
-            if self._backend == "numba":
-                self._run_compiled(dt, count, stats)
-            else:
-                numpy_kernels.run_steps(
-                    self._pos,
-                    self._vel,
-                    self._rad,
-                    self._ima,
-                    self._stencil,
-                    self._planes_n,
-                    self._planes_c,
-                    self._gravity,
-                    dt,
-                    self._e,
-                    self._min_cell,
-                    self._max_cells,
-                    count,
-                    self._passes,
-                    stats,
-                )
+            self._run(dt, count, ledger)
             done += count
             self._steps += count
             self._time += dt * count
             if progress is not None:
                 progress(done, steps)
-        return StepReport(steps, int(stats[0]), int(stats[1]))
+        return StepReport(steps, int(ledger[5]), int(ledger[6]))
 
-    def _run_compiled(self, dt: float, steps: int, stats: NDArray[np.int64]) -> None:
-        kernels = compiled_kernels()
-        assert kernels is not None
+    def _run(self, dt: float, steps: int, ledger: NDArray[np.float64]) -> None:
+        kernels = engine_kernels(self._backend)
         n = self.n
         if not self._scratch:
             self._scratch = (
-                np.empty_like(self._pos),
-                np.empty_like(self._vel),
-                np.empty_like(self._rad),
-                np.empty_like(self._ima),
-                np.empty_like(self._ids),
+                np.zeros((n, 11)),
+                np.zeros((n, 2), np.int64),
                 np.zeros(self._max_cells + 2, np.int64),  # cell starts
                 np.zeros(n, np.int64),  # destination slot of each body in the counting sort
-                np.zeros(n, np.int64),  # step stamp of the last wall clamp of each slot
             )
             capacity = max(64, n // 8)
-            self._contacts = (np.empty(capacity, np.int64), np.empty(capacity, np.int64), np.empty(capacity))
-        pos2, vel2, rad2, ima2, ids2, cell_start, dest, mark = self._scratch
-        ca, cb, cd = kernels.run_steps(
+            self._buffers = (
+                np.zeros(capacity, np.int64),  # keys of the pairs in contact
+                np.zeros(1, np.int64),
+                np.zeros(capacity, np.int64),
+                np.zeros(capacity, np.int64),
+                np.zeros(capacity),
+                np.zeros((1, step_kernels.EVENT_COLUMNS)),
+                np.zeros(2, np.int64),
+            )
+        scratch_f, scratch_i, cell_start, dest = self._scratch
+        keys, key_count, ca, cb, cd, events, event_count = self._buffers
+        p = self._params
+        keys, ca, cb, cd, events = kernels.run_steps(
+            self._kind,
             self._pos,
             self._vel,
-            self._rad,
+            self._ext,
             self._ima,
+            self._eb,
             self._ids,
-            pos2,
-            vel2,
-            rad2,
-            ima2,
-            ids2,
+            scratch_f,
+            scratch_i,
             cell_start,
             dest,
-            mark,
             self._stencil,
-            self._planes_n,
-            self._planes_c,
+            self._s_kind,
+            self._s_a,
+            self._s_b,
+            self._s_e,
             self._gravity,
+            self._dim,
             dt,
             self._e,
+            p.slop,
+            p.solver_margin,
+            p.contact_margin,
+            p.rest_speed if self._gravity.any() else 0.0,
+            p.passes,
             self._min_cell,
+            self._steps,
             steps,
-            self._passes,
-            self._steps + 1,
-            *self._contacts,
-            stats,
+            False,
+            keys,
+            key_count,
+            ca,
+            cb,
+            cd,
+            events,
+            event_count,
+            ledger,
         )
-        self._contacts = (ca, cb, cd)
+        self._buffers = (keys, key_count, ca, cb, cd, events, event_count)

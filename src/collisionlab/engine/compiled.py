@@ -1,0 +1,62 @@
+"""The engine's kernels compiled by numba: the same source files as the Python forms, loaded a
+second time under their own module names with every function put through ``numba.njit``.
+
+Nothing is compiled until :func:`kernels` is first called; numba caches the machine code on disk
+(``cache=True``), so the compile happens once per machine and later loads take well under a
+second. :func:`compile_notice` says on stderr when a compile is about to happen.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import sys
+import types
+from pathlib import Path
+from typing import Any
+
+__all__ = ["is_cached", "kernels"]
+
+_HERE = Path(__file__).resolve().parent
+_loaded: dict[str, types.ModuleType] = {}
+
+
+def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
+    """Load ``name``.py again as ``collisionlab.engine._compiled_<name>`` and jit its functions.
+    The module goes into ``sys.modules`` so that numba's cache can find it again."""
+    import numba
+
+    qualified = f"{__package__}._compiled_{name}"
+    spec = importlib.util.spec_from_file_location(qualified, _HERE / f"{name}.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    module.__dict__.update(inject)
+    sys.modules[qualified] = module
+    spec.loader.exec_module(module)
+    inline = set(getattr(module, "INLINE", ()))
+    for attribute, value in list(vars(module).items()):
+        if isinstance(value, types.FunctionType) and value.__module__ == qualified:
+            # error_model="numpy": no Python exception check in every division (none can raise).
+            if attribute in inline:
+                jitted = numba.njit(cache=True, error_model="numpy", inline="always")(value)
+            else:
+                jitted = numba.njit(cache=True, error_model="numpy")(value)
+            setattr(module, attribute, jitted)
+    return module
+
+
+def kernels() -> types.ModuleType:
+    """The compiled :mod:`~collisionlab.engine.step_kernels` (and, inside it, geometry kernels)."""
+    if "step" not in _loaded:
+        geometry = _compile_module("geometry_kernels", {})
+        _loaded["step"] = _compile_module("step_kernels", {"_GEOMETRY": geometry})
+    return _loaded["step"]
+
+
+def is_cached() -> bool:
+    """Whether numba's on-disk cache seems to hold the stepper already (then a run loads it in
+    well under a second instead of compiling); a guess from the cache's index file."""
+    folders = [_HERE / "__pycache__"]
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        folders.append(Path(os.environ["NUMBA_CACHE_DIR"]))
+    return any(any(folder.glob("**/step_kernels.run_steps-*.nbi")) for folder in folders if folder.exists())

@@ -1,0 +1,55 @@
+"""Every tunable of a world in one typed object, passed to the world (never baked into kernels)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED, SOLVER_MARGIN
+from ..validate import non_negative, positive, whole_number
+
+__all__ = ["COMPILE_ABOVE", "DEFAULT_PASSES", "WorldParams"]
+
+#: Most sweeps over a step's contacts, for impulses and again for push-apart. A sweep that
+#: changes nothing ends them early, so a dilute gas makes about two; a resting heap needs several
+#: so that a ball pressed between a neighbour and the floor is pushed out within the step.
+DEFAULT_PASSES = 8
+
+#: Body-steps (bodies x steps) above which a world runs the compiled kernels; below it, the same
+#: kernels run as Python (the lab's cases never wait for a compiler).
+COMPILE_ABOVE = 200_000
+
+
+@dataclass(frozen=True)
+class WorldParams:
+    """How a world resolves contacts. Units: metres and metres per second.
+
+    ``slop``: the gap push-apart leaves between two overlapping shapes, so a resolved pair is
+    not found again next step. ``solver_margin``: impulses act on pairs closer than this, not
+    only overlapping ones (a stack left ``slop`` apart stays supported). ``contact_margin``: a
+    pair that collided stays "in contact" (its next impulses are not new events) until it is
+    farther apart than this. ``rest_speed``: approaches slower than this get e = 0 in a world
+    with gravity (without it nothing rests, and a slow graze is a true collision).
+    ``passes``: most sweeps of impulses, and of push-apart, per step. ``compiled``: ``None``
+    decides by size (:data:`COMPILE_ABOVE`), ``True``/``False`` force it.
+
+    >>> WorldParams().passes
+    8
+    >>> WorldParams(passes=0)
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: passes: must be a whole number >= 1 (got 0)
+    """
+
+    slop: float = CONTACT_SLOP
+    solver_margin: float = SOLVER_MARGIN
+    contact_margin: float = CONTACT_MARGIN
+    rest_speed: float = REST_SPEED
+    passes: int = DEFAULT_PASSES
+    compiled: bool | None = None
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "slop", non_negative(self.slop, "slop"))
+        object.__setattr__(self, "solver_margin", non_negative(self.solver_margin, "solver_margin"))
+        object.__setattr__(self, "contact_margin", positive(self.contact_margin, "contact_margin"))
+        object.__setattr__(self, "rest_speed", non_negative(self.rest_speed, "rest_speed"))
+        object.__setattr__(self, "passes", whole_number(self.passes, "passes", minimum=1))

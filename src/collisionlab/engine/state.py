@@ -1,0 +1,135 @@
+"""The state a world steps: a structure of arrays, built from a scenario or from plain arrays.
+
+Bodies (``n``): ``kind`` (ball 2D/3D, box 2D/3D), ``pos`` and ``vel`` ``(n, 3)`` (z = 0 in 2D),
+``ext`` ``(n, 3)`` the half extents (a ball's radius on every axis, a box's half size, so that
+``pos -+ ext`` is always the body's bounding box), ``ima`` the inverse mass (0: kinematic),
+``eb`` the body's restitution override (NaN: none) and ``ids``, the order the bodies were given
+(the steppers store bodies in cell order and carry ``ids`` along).
+
+Statics (``m``): ``s_kind`` (a two-sided line or plane, a one-sided wall, a fixed box), ``s_a``
+and ``s_b`` ``(m, 3)`` (a point and the unit normal, or the box's two corners) and ``s_e``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..model import Scenario
+from ..shapes import AABB, Circle
+from . import step_kernels as sk
+
+__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "statics_of", "walls_of_box"]
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+
+
+@dataclass
+class BodyArrays:
+    kind: IntArray
+    pos: FloatArray
+    vel: FloatArray
+    ext: FloatArray
+    ima: FloatArray
+    eb: FloatArray
+    ids: IntArray
+
+    @property
+    def n(self) -> int:
+        return int(self.pos.shape[0])
+
+    def nbytes(self) -> int:
+        return int(sum(a.nbytes for a in (self.kind, self.pos, self.vel, self.ext, self.ima, self.eb, self.ids)))
+
+
+@dataclass
+class StaticArrays:
+    kind: IntArray
+    a: FloatArray
+    b: FloatArray
+    e: FloatArray
+
+    @property
+    def m(self) -> int:
+        return int(self.kind.shape[0])
+
+
+def bodies_of(scenario: Scenario) -> BodyArrays:
+    """The scenario's moving bodies as arrays, in the order given."""
+    n = len(scenario.bodies)
+    kind = np.zeros(n, np.int64)
+    pos = np.zeros((n, 3))
+    vel = np.zeros((n, 3))
+    ext = np.zeros((n, 3))
+    ima = np.zeros(n)
+    eb = np.full(n, math.nan)
+    for i, body in enumerate(scenario.bodies):
+        shape = body.shape
+        if isinstance(shape, AABB):
+            kind[i] = sk.BOX_2D if shape.dim == 2 else sk.BOX_3D
+            ext[i] = shape.half_size.as_tuple()
+        else:
+            kind[i] = sk.BALL_2D if isinstance(shape, Circle) else sk.BALL_3D
+            ext[i] = (shape.radius,) * 3
+        pos[i] = body.position.as_tuple()
+        vel[i] = body.velocity.as_tuple()
+        ima[i] = 1.0 / body.mass
+        if body.restitution is not None:
+            eb[i] = body.restitution
+    return BodyArrays(kind, pos, vel, ext, ima, eb, np.arange(n, dtype=np.int64))
+
+
+def statics_of(scenario: Scenario, extra: StaticArrays | None = None) -> StaticArrays:
+    """The scenario's static obstacles as arrays (then ``extra``, e.g. box walls)."""
+    m = len(scenario.obstacles)
+    kind = np.zeros(m, np.int64)
+    a = np.zeros((m, 3))
+    b = np.zeros((m, 3))
+    e = np.full(m, math.nan)
+    for s, obstacle in enumerate(scenario.obstacles):
+        shape = obstacle.shape
+        if isinstance(shape, AABB):
+            kind[s] = sk.STATIC_BOX
+            a[s] = shape.min_corner.as_tuple()
+            b[s] = shape.max_corner.as_tuple()
+        else:
+            kind[s] = sk.STATIC_BOUNDARY
+            a[s] = shape.point.as_tuple()
+            b[s] = shape.unit_normal.as_tuple()
+        if obstacle.restitution is not None:
+            e[s] = obstacle.restitution
+    statics = StaticArrays(kind, a, b, e)
+    if extra is None:
+        return statics
+    return StaticArrays(
+        np.concatenate([kind, extra.kind]),
+        np.concatenate([a, extra.a]),
+        np.concatenate([b, extra.b]),
+        np.concatenate([e, extra.e]),
+    )
+
+
+def walls_of_box(lo: Sequence[float], hi: Sequence[float], dims: int) -> StaticArrays:
+    """The ``2 * dims`` one-sided walls of the box ``lo <= x <= hi``, inside facing in."""
+    kinds: list[int] = []
+    points: list[tuple[float, ...]] = []
+    normals: list[tuple[float, ...]] = []
+    for k in range(dims):
+        axis = tuple(1.0 if i == k else 0.0 for i in range(3))
+        low = tuple(float(lo[k]) if i == k else 0.0 for i in range(3))
+        high = tuple(float(hi[k]) if i == k else 0.0 for i in range(3))
+        kinds += [sk.STATIC_WALL, sk.STATIC_WALL]
+        points += [low, high]
+        normals += [axis, tuple(-c for c in axis)]
+    count = len(kinds)
+    return StaticArrays(
+        np.array(kinds, np.int64),
+        np.array(points, np.float64).reshape(count, 3),
+        np.array(normals, np.float64).reshape(count, 3),
+        np.full(count, math.nan),
+    )

@@ -1,0 +1,439 @@
+"""The stateful simulation: a :class:`World` owns a scenario's state in arrays and steps it.
+
+Two steppers act on the same state:
+
+* ``mode = "euler"`` (the lab's part VI): :func:`~collisionlab.engine.step_kernels.run_steps`,
+  Forward Euler then detect, resolve and push apart, in the order its module documents. It runs
+  as Python for small worlds and compiled by numba for large ones (same source, same numbers).
+* ``mode = "exact"``: :class:`~collisionlab.engine.exact.ExactStepper`, times of impact within
+  each step, nothing tunnels.
+
+What happens is recorded in one :class:`~collisionlab.record.RunRecord`: frames every ``every``
+steps (never every step unless asked, so memory follows what is kept, not the run's length),
+collision events, contacts skipped as separating, the energy ledger and warnings.
+
+Bodies that start overlapping are refused (:class:`InitialOverlapError`, naming both and the
+depth) unless the scenario says ``allow_initial_overlap``: then the first step resolves them and
+a warning reports it.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError
+from ..model import Scenario
+from ..record import BodyState, CollisionEvent, Frame, RunRecord, SkippedContact
+from ..vector import Vector3D
+from . import step_kernels
+from .exact import ExactStepper
+from .params import COMPILE_ABOVE, WorldParams
+from .state import bodies_of, statics_of
+
+__all__ = ["InitialOverlapError", "World", "simulate", "stencil"]
+
+#: Most steps one compiled call runs before control returns (for progress and Ctrl-C).
+_CHUNK_BODY_STEPS = 2_000_000
+
+
+class InitialOverlapError(InvalidInputError):
+    """Two bodies (or a body and an obstacle) overlap at the start."""
+
+
+def stencil(dims: int) -> np.ndarray[Any, np.dtype[np.int64]]:
+    """Cell offsets of a cell and the half of its neighbours after it in (z, y, x) order, so that
+    every unordered pair of neighbouring cells is visited once (Ericson 7.1.2)."""
+    rows = [(0, 0, 0)]
+    span = (-1, 0, 1)
+    for dz in span if dims == 3 else (0,):
+        for dy in span:
+            for dx in span:
+                if (dz, dy, dx) > (0, 0, 0):
+                    rows.append((dx, dy, dz))
+    return np.asarray(rows, np.int64)
+
+
+def _thickness(kind: int, ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> float:
+    """How far something must travel to pass through a body (tunnelling check)."""
+    if kind <= step_kernels.BALL_3D:
+        return float(2.0 * ext[0])
+    return float(2.0 * min(ext[:dims]))
+
+
+class World:
+    """A running simulation. Build it from a scenario, then :meth:`step` or :meth:`run`.
+
+    >>> from collisionlab import Sphere, Plane
+    >>> from collisionlab.model import Body, Obstacle, Settings, Scenario
+    >>> ball = Body("ball", Sphere((0, 0.96, 0), 0.5), velocity=(0, -1, 0))
+    >>> floor = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
+    >>> world = World(Scenario(Settings(dt=0.1, steps=10, restitution=0.5), (ball,), (floor,)))
+    >>> world
+    World('scenario', 1 body, 1 static, euler, step 0 of 10)
+    """
+
+    def __init__(
+        self, scenario: Scenario, params: WorldParams | None = None, notify: Callable[[str], None] | None = None
+    ) -> None:
+        self.scenario = scenario
+        #: Where the world says what takes time (compiling its kernels); the CLI passes stderr.
+        self._notify = notify
+        self.params = params or WorldParams()
+        settings = scenario.settings
+        self.dims = scenario.dims
+        self.step_index = 0
+        self.time = 0.0
+        self._bodies = bodies_of(scenario)
+        self._statics = statics_of(scenario)
+        self._names = [b.name for b in scenario.bodies]
+        self._static_names = [o.name for o in scenario.obstacles]
+        self._masses = [b.mass for b in scenario.bodies]
+        self._gravity = np.array(settings.gravity.as_tuple())
+        self._tunnel_warned = False
+        self._kernels: Any = None
+        self.record = RunRecord(
+            title=scenario.title,
+            mode=settings.mode,
+            dt=settings.dt,
+            steps=settings.steps,
+            restitution=settings.restitution,
+            gravity=settings.gravity,
+            dims=scenario.dims,
+        )
+        ledger = self.record.ledger
+        ledger.kinetic_start = ledger.kinetic_end = self.kinetic_energy()
+        ledger.potential_start = ledger.potential_end = self.potential_energy()
+        ledger.momentum_start = ledger.momentum_end = self.momentum()
+        warning = scenario.energy_warning()
+        if warning:
+            self.record.warnings.append(warning)
+        n = self._bodies.n
+        self._stencil = stencil(self.dims)
+        extent = float(self._bodies.ext[:, : self.dims].max())
+        self._min_cell = 2.0 * extent + self.params.contact_margin
+        self._max_cells = 6 * n + 64
+        self._check_initial_overlap()
+        self._exact = ExactStepper(scenario, self.record) if settings.mode == "exact" else None
+        compiled = self.params.compiled
+        self._compiled = n * settings.steps > COMPILE_ABOVE if compiled is None else compiled
+        self._scratch_f = np.zeros((n, 11))
+        self._scratch_i = np.zeros((n, 2), np.int64)
+        self._cell_start = np.zeros(self._max_cells + 2, np.int64)
+        self._dest = np.zeros(n, np.int64)
+        self._touch_keys = np.zeros(16, np.int64)
+        self._touch_count = np.zeros(1, np.int64)
+        capacity = max(16, 2 * n)
+        self._contacts = (np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), np.zeros(capacity))
+        self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+        self._event_count = np.zeros(2, np.int64)
+        self._ledger = np.zeros(step_kernels.LEDGER_SIZE)
+
+    def __repr__(self) -> str:
+        n, m = self._bodies.n, self._statics.m
+        return (
+            f"World({self.scenario.title!r}, {n} bod{'y' if n == 1 else 'ies'}, {m} static{'' if m == 1 else 's'}, "
+            f"{self.scenario.settings.mode}, step {self.step_index} of {self.scenario.settings.steps})"
+        )
+
+    # --- state, in the order the bodies were given --------------------------------------------
+    def _given_order(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> np.ndarray[Any, np.dtype[np.float64]]:
+        out = np.empty_like(stored)
+        out[self._bodies.ids] = stored
+        return out
+
+    @property
+    def position_array(self) -> np.ndarray[Any, np.dtype[np.float64]]:
+        """Positions ``(n, 3)`` in the order the bodies were given (a copy)."""
+        return self._given_order(self._bodies.pos)
+
+    @property
+    def velocity_array(self) -> np.ndarray[Any, np.dtype[np.float64]]:
+        """Velocities ``(n, 3)`` in the order the bodies were given (a copy)."""
+        return self._given_order(self._bodies.vel)
+
+    @property
+    def positions(self) -> list[Vector3D]:
+        return [Vector3D(*row) for row in self.position_array.tolist()]
+
+    @property
+    def velocities(self) -> list[Vector3D]:
+        return [Vector3D(*row) for row in self.velocity_array.tolist()]
+
+    def _mass_and(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> tuple[Any, Any]:
+        """The masses of the bodies of finite mass and their rows of ``stored``, in given order."""
+        rows = self._given_order(stored)
+        masses = np.asarray(self._masses)
+        live = np.isfinite(masses)
+        return masses[live], rows[live]
+
+    def kinetic_energy(self) -> float:
+        m, v = self._mass_and(self._bodies.vel)
+        return float(np.sum(0.5 * m * np.einsum("ij,ij->i", v, v)))
+
+    def potential_energy(self) -> float:
+        """``-sum m g.x``: zero at the origin."""
+        m, x = self._mass_and(self._bodies.pos)
+        return float(-np.sum(m * (x @ self._gravity)))
+
+    def energy(self) -> float:
+        return self.kinetic_energy() + self.potential_energy()
+
+    def momentum(self) -> Vector3D:
+        m, v = self._mass_and(self._bodies.vel)
+        return Vector3D(*np.sum(v * m[:, None], axis=0).tolist())
+
+    def frame(self) -> Frame:
+        positions = self.position_array.tolist()
+        velocities = self.velocity_array.tolist()
+        return Frame(
+            self.step_index,
+            self.time,
+            tuple(
+                BodyState(name, Vector3D(*x), Vector3D(*v))
+                for name, x, v in zip(self._names, positions, velocities, strict=True)
+            ),
+        )
+
+    # --- checks -----------------------------------------------------------------------------------
+    def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
+        b, s = self._bodies, self._statics
+        kernels = self._compiled_kernels() if b.n * max(1, s.m) > COMPILE_ABOVE // 100 else step_kernels
+        pairs, depths = kernels.find_near(
+            b.kind,
+            b.pos,
+            b.ext,
+            b.ids,
+            s.kind,
+            s.a,
+            s.b,
+            self._stencil,
+            self.dims,
+            self._min_cell,
+            self._max_cells,
+            margin,
+        )
+        return np.asarray(pairs, np.int64), np.asarray(depths, np.float64)
+
+    def _pair_names(self, a: int, b: int) -> tuple[str, str]:
+        return (self._static_names[-1 - a] if a < 0 else self._names[a], self._names[b])
+
+    def _check_initial_overlap(self) -> None:
+        pairs, depths = self._near(0.0)
+        overlapping = depths > 0.0
+        if not np.any(overlapping):
+            return
+        worst = int(np.argmax(depths))
+        name_a, name_b = self._pair_names(int(pairs[worst, 0]), int(pairs[worst, 1]))
+        count = int(np.count_nonzero(overlapping))
+        if not self.scenario.allow_initial_overlap:
+            more = f" (and {count - 1} more pair{'s' if count > 2 else ''})" if count > 1 else ""
+            raise InitialOverlapError(
+                "body",
+                f"'{name_a}' and '{name_b}' overlap by {depths[worst]:.6g} m at the start{more}; move them apart, "
+                "or set allow_initial_overlap = true to have the first step push them apart",
+            )
+        self.record.warnings.append(
+            f"{count} pair{'s' if count > 1 else ''} overlapped at the start (deepest: '{name_a}' and '{name_b}' by "
+            f"{depths[worst]:.6g} m); the first step pushes them apart (allow_initial_overlap)"
+        )
+
+    def _check_tunnelling(self) -> None:
+        """Warn once when a body moves farther in one step than it takes to pass through
+        something (Forward Euler then misses the collision)."""
+        if self._tunnel_warned:
+            return
+        b, dt = self._bodies, self.scenario.settings.dt
+        n = b.n
+        speeds = np.sqrt(np.einsum("ij,ij->i", b.vel, b.vel))
+        thick = np.array([_thickness(int(k), e, self.dims) for k, e in zip(b.kind, b.ext, strict=True)])
+        found: tuple[int, int, float, float] | None = None
+        if self._statics.m:
+            over = speeds * dt > thick
+            if np.any(over):
+                i = int(np.argmax(over))
+                found = (-1, i, float(speeds[i] * dt), float(thick[i]))
+        if found is None and n > 1:
+            if n <= 400:
+                relative = np.sqrt(((b.vel[:, None, :] - b.vel[None, :, :]) ** 2).sum(axis=2)) * dt
+                limit = thick[:, None] + thick[None, :]
+                over = np.triu(relative > limit, 1)
+                if np.any(over):
+                    i, j = (int(x) for x in np.argwhere(over)[0])
+                    found = (i, j, float(relative[i, j]), float(limit[i, j]))
+            elif 2.0 * float(speeds.max()) * dt > 2.0 * float(thick.min()):
+                i = int(np.argmax(speeds))
+                found = (i, i, 2.0 * float(speeds.max()) * dt, 2.0 * float(thick.min()))
+        if found is None:
+            return
+        a, i, moved, limit = found
+        name_a = "a static obstacle" if a < 0 else "'" + self._names[int(b.ids[a])] + "'"
+        self.record.warnings.append(
+            f"'{self._names[int(b.ids[i])]}' moves {moved:.3g} m relative to {name_a} in one step, more than the "
+            f"{limit:.3g} m it takes to pass through: collisions can be missed (tunnelling); use --mode exact"
+        )
+        self._tunnel_warned = True
+
+    # --- stepping -------------------------------------------------------------------------------
+    def _compiled_kernels(self) -> Any:
+        from . import compiled
+
+        if self._kernels is None:
+            if not compiled.is_cached() and self._notify is not None:
+                self._notify("compiling the engine's kernels (once per machine; about a minute)...")
+            self._kernels = compiled.kernels()
+        return self._kernels
+
+    def step(self, steps: int = 1) -> None:
+        """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
+        if self._exact is not None:
+            for _ in range(steps):
+                self._step_exact()
+        else:
+            self._step_euler(steps)
+        ledger = self.record.ledger
+        ledger.kinetic_end = self.kinetic_energy()
+        ledger.potential_end = self.potential_energy()
+        ledger.momentum_end = self.momentum()
+
+    def _step_exact(self) -> None:
+        exact = self._exact
+        assert exact is not None
+        exact.step()
+        self.step_index = exact.step_index
+        self.time = exact.time
+        self._bodies.pos[:] = [x.as_tuple() for x in exact.positions]
+        self._bodies.vel[:] = [v.as_tuple() for v in exact.velocities]
+
+    def _step_euler(self, steps: int) -> None:
+        self._check_tunnelling()
+        b, s, p, settings = self._bodies, self._statics, self.params, self.scenario.settings
+        kernels = self._compiled_kernels() if self._compiled else step_kernels
+        self._event_count[0] = 0
+        self._ledger[:] = 0.0
+        ca, cb, cd = self._contacts
+        touch_keys, ca, cb, cd, events = kernels.run_steps(
+            b.kind,
+            b.pos,
+            b.vel,
+            b.ext,
+            b.ima,
+            b.eb,
+            b.ids,
+            self._scratch_f,
+            self._scratch_i,
+            self._cell_start,
+            self._dest,
+            self._stencil,
+            s.kind,
+            s.a,
+            s.b,
+            s.e,
+            self._gravity,
+            self.dims,
+            settings.dt,
+            settings.restitution,
+            p.slop,
+            p.solver_margin,
+            p.contact_margin,
+            p.rest_speed if self._gravity.any() else 0.0,
+            p.passes,
+            self._min_cell,
+            self.step_index,
+            steps,
+            True,
+            self._touch_keys,
+            self._touch_count,
+            ca,
+            cb,
+            cd,
+            self._events,
+            self._event_count,
+            self._ledger,
+        )
+        self._touch_keys, self._contacts, self._events = touch_keys, (ca, cb, cd), events
+        self.step_index += steps
+        self.time = self.step_index * settings.dt
+        ledger = self.record.ledger
+        ledger.integrator += float(self._ledger[0])
+        ledger.collisions += float(self._ledger[1])
+        ledger.push_apart += float(self._ledger[2])
+        ledger.collisions_predicted += float(self._ledger[3])
+        ledger.max_penetration = max(ledger.max_penetration, float(self._ledger[4]))
+        self._record_events(int(self._event_count[0]))
+
+    def _record_events(self, count: int) -> None:
+        rows = self._events[:count].tolist()
+        for row in rows:
+            a, b_id = int(row[3]), int(row[4])
+            names = self._pair_names(a, b_id)
+            step, time = int(row[1]), row[2]
+            if row[0] == 1.0:
+                self.record.skipped.append(SkippedContact(step, time, names, "separating"))
+                continue
+            static = a < 0
+            va_before, vb_before = Vector3D(*row[14:17]), Vector3D(*row[17:20])
+            va_after, vb_after = Vector3D(*row[20:23]), Vector3D(*row[23:26])
+            mass_b = self._masses[b_id]
+            mass_a = math.inf if static else self._masses[a]
+            before = {names[1]: vb_before} if static else {names[0]: va_before, names[1]: vb_before}
+            after = {names[1]: vb_after} if static else {names[0]: va_after, names[1]: vb_after}
+            self.record.events.append(
+                CollisionEvent(
+                    step=step,
+                    time=time,
+                    bodies=names,
+                    static=static,
+                    normal=Vector3D(*row[5:8]),
+                    point=Vector3D(*row[8:11]),
+                    approach_speed=row[11],
+                    impulse=row[12],
+                    restitution=row[13],
+                    masses=(mass_a, mass_b),
+                    velocities_before=before,
+                    velocities_after=after,
+                    kinetic_energy_before=_kinetic(mass_a, va_before) + _kinetic(mass_b, vb_before),
+                    kinetic_energy_after=_kinetic(mass_a, va_after) + _kinetic(mass_b, vb_after),
+                    below_rest_threshold=row[26] == 1.0,
+                )
+            )
+
+    # --- running --------------------------------------------------------------------------------
+    def run(self, every: int = 1, progress: Callable[[int, int], None] | None = None) -> RunRecord:
+        """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
+        ``progress(done, total)`` is called between chunks of steps."""
+        total = self.scenario.settings.steps
+        if not self.record.frames:
+            self.record.frames.append(self.frame())
+        chunk = 1 if self._exact is not None or not self._compiled else max(1, _CHUNK_BODY_STEPS // self._bodies.n)
+        while self.step_index < total:
+            to_frame = every - self.step_index % every
+            count = min(to_frame, chunk, total - self.step_index)
+            self.step(count)
+            if self.step_index % every == 0 or self.step_index == total:
+                self.record.frames.append(self.frame())
+            if progress is not None:
+                progress(self.step_index, total)
+        return self.record
+
+
+def _kinetic(mass: float, velocity: Vector3D) -> float:
+    return 0.0 if math.isinf(mass) else 0.5 * mass * velocity.length_squared()
+
+
+def simulate(scenario: Scenario, every: int = 1, params: WorldParams | None = None) -> RunRecord:
+    """Run ``scenario`` from the start and return its record.
+
+    >>> from collisionlab import Sphere, Plane
+    >>> from collisionlab.model import Body, Obstacle, Settings, Scenario
+    >>> ball = Body("ball", Sphere((0, 0.96, 0), 0.5), velocity=(0, -1, 0))
+    >>> floor = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
+    >>> record = simulate(Scenario(Settings(dt=0.1, steps=10, restitution=0.5), (ball,), (floor,)))
+    >>> event = record.events[0]   # y = 0.96 - 0.1 k <= 0.5 first at k = 5 (4.6 rounded up)
+    >>> event.step, event.velocities_after["ball"]   # -1 -> +0.5 (lab eq. 24, e = 0.5)
+    (5, Vector3D(x=0.0, y=0.5, z=0.0))
+    """
+    return World(scenario, params).run(every=every)
