@@ -26,6 +26,8 @@ MODES: tuple[Mode, ...] = ("euler", "exact")
 @dataclass(frozen=True)
 class Body:
     """A moving body: a shape placed at its starting position, a velocity and a mass.
+    ``math.inf`` is a kinematic body: it moves at its own velocity, pushes others and is never
+    pushed (gravity does not act on it).
 
     ``restitution`` overrides the scenario's default for collisions of this body.
     """
@@ -40,7 +42,7 @@ class Body:
         if not isinstance(self.shape, (Circle, Sphere, AABB)):
             raise InvalidInputError("shape", "a moving body must be a circle, a sphere or an AABB")
         object.__setattr__(self, "velocity", as_vector(self.velocity, "velocity"))
-        object.__setattr__(self, "mass", positive(self.mass, "mass"))
+        object.__setattr__(self, "mass", positive_or_inf(self.mass, "mass"))
         if self.restitution is not None:
             object.__setattr__(self, "restitution", non_negative(self.restitution, "restitution"))
         if isinstance(self.shape, Circle) and self.velocity.z != 0.0:

@@ -19,7 +19,7 @@ from .errors import CollisionLabError, InvalidInputError
 from .gas_table import GasSpec, gas_count, place_gas
 from .model import Body, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere
-from .validate import non_negative, positive, whole_number
+from .validate import non_negative, positive, positive_or_inf, whole_number
 from .vector import Vector3D, as_vector
 
 __all__ = ["ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
@@ -136,7 +136,7 @@ def _body(source: str, data: object, index: int) -> Body:
         maker = Circle if kind == "circle" else Sphere
         shape = _check(source, lambda: maker(position, radius), f"{field}.position")
     velocity = _vector(source, table, field, "velocity") if "velocity" in table else Vector3D(0, 0, 0)
-    mass = _number(source, table, field, "mass", positive) if "mass" in table else 1.0
+    mass = _number(source, table, field, "mass", positive_or_inf) if "mass" in table else 1.0
     restitution = _optional(source, table, field, "restitution")
     return _check(source, lambda: Body(name, shape, velocity, mass, restitution), f"{field}.velocity")
 
@@ -218,7 +218,7 @@ def _gas(source: str, data: object, index: int) -> list[Body]:
         _optional(source, table, field, "restitution"),
         seed,
     )
-    return _check(source, lambda: place_gas(spec, field), field)
+    return _check(source, lambda: place_gas(spec, field), field, {"gas": "gas"})
 
 
 def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: str | None = None) -> Scenario:

@@ -115,10 +115,13 @@ def render_table(record: RunRecord, every: int = 1, quiet: bool = False, explain
         out.append(_header(record.frames[0], dims))
     last_step = -1
     for frame in record.frames:
+        # Events of the steps between kept frames come first (in step order), then this row,
+        # then this step's own events: the same text whether every step was kept or not.
+        for step in sorted(s for s in events_by_step if last_step < s < frame.step):
+            out += events_by_step[step]
         if not quiet and (frame.step % every == 0 or frame.step == record.steps):
             out.append(_row(frame, dims))
-        for step in range(last_step + 1, frame.step + 1):
-            out += events_by_step.get(step, [])
+        out += events_by_step.get(frame.step, [])
         last_step = frame.step
     out += summary_lines(record)
     return "\n".join(out) + "\n"

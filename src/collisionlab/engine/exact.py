@@ -111,12 +111,14 @@ class ExactStepper:
         return self.scenario.bodies[index].shape.moved_to(self.positions[index])
 
     def kinetic_energy(self) -> float:
-        return sum(0.5 * b.mass * v.length_squared() for b, v in zip(self.bodies, self.velocities, strict=True))
+        """Of the bodies of finite mass (a kinematic body's is not part of the system's)."""
+        pairs = zip(self.bodies, self.velocities, strict=True)
+        return sum(0.5 * b.mass * v.length_squared() for b, v in pairs if b.mass < math.inf)
 
     def potential_energy(self) -> float:
-        """``-sum m g.x``: zero at the origin."""
+        """``-sum m g.x`` over bodies of finite mass: zero at the origin."""
         g = self.scenario.settings.gravity
-        return -sum(b.mass * g.dot(x) for b, x in zip(self.bodies, self.positions, strict=True))
+        return -sum(b.mass * g.dot(x) for b, x in zip(self.bodies, self.positions, strict=True) if b.mass < math.inf)
 
     def energy(self) -> float:
         return self.kinetic_energy() + self.potential_energy()
@@ -124,7 +126,8 @@ class ExactStepper:
     def momentum(self) -> Vector3D:
         total = _ZERO
         for body, v in zip(self.bodies, self.velocities, strict=True):
-            total = total + v * body.mass
+            if body.mass < math.inf:
+                total = total + v * body.mass
         return total
 
     # --- pairs ---------------------------------------------------------------------------------
@@ -162,6 +165,8 @@ class ExactStepper:
         time of impact (``fresh``) faster than ``REST_SPEED``. Returns the approach speed
         ``v_n`` (< 0) when an impulse was applied, else ``None``."""
         va, vb = self._velocity_a(pair), self.velocities[pair.b]
+        if self.bodies[pair.b].mass == math.inf and (pair.static or self.bodies[pair.a].mass == math.inf):
+            return None  # two kinematic bodies (or one and an obstacle) pass through each other
         vn = (vb - va).dot(normal)
         if vn >= 0.0:
             if pair not in self._touching:
@@ -218,10 +223,13 @@ class ExactStepper:
         """Radius of curvature of the surface the pair slides on (the Minkowski sum of the two
         shapes): ``r_a + r_b`` for two balls, the ball's radius on a box's edge or corner (a normal
         off the axes), ``math.inf`` when flat (a plane, a line, a box face, two boxes)."""
-        radii = [s.radius for s in (self._shape_a(pair), self.shape(pair.b)) if isinstance(s, (Circle, Sphere))]
+        shapes = (self._shape_a(pair), self.shape(pair.b))
+        radii = [s.radius for s in shapes if isinstance(s, (Circle, Sphere))]
         if len(radii) == 2:
             return radii[0] + radii[1]
-        if len(radii) == 1 and sum(1 for c in normal if c != 0.0) >= 2:
+        # Only a box has edges: a tilted line or plane has a normal off the axes too, and is flat.
+        on_box = any(isinstance(s, AABB) for s in shapes)
+        if len(radii) == 1 and on_box and sum(1 for c in normal if c != 0.0) >= 2:
             return radii[0]
         return math.inf
 
@@ -441,7 +449,8 @@ class ExactStepper:
         then cut to ``sqrt(R CONTACT_MARGIN) / v_t`` and the small drift closed, so the body
         follows the surface instead of hopping along it."""
         gravity = self.scenario.settings.gravity
-        accelerations = [gravity] * len(self.bodies)
+        # Kinematic bodies (infinite mass) move at their own velocity: gravity does not act on them.
+        accelerations = [gravity if b.mass < math.inf else _ZERO for b in self.bodies]
         resting: set[_Pair] = set()
         self._slide_limit = math.inf
         if gravity == _ZERO:
@@ -487,6 +496,7 @@ class ExactStepper:
                 elif pair.b in self._supports:
                     self._supports.setdefault(pair.a, []).append(-n)
                 resting.add(pair)
+                self._touching.add(pair)  # a resting pair is in contact: a slow touch is no new impact
                 changed = True
             if not changed:
                 break

@@ -16,17 +16,23 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    result exactly; body pairs before static contacts, statics by their number.
 5. **Impulses**, contact after contact in that order, each from the current velocities
    (sequential impulses): ``v_n = (v_b - v_a) . n``; nothing if ``v_n >= 0``; else
-   ``j = -(1 + e) v_n / (1/m_a + 1/m_b)`` with e = 0 below ``rest_speed``, ``v_a -= (j/m_a) n``,
+   ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, ``v_a -= (j/m_a) n``,
    ``v_b += (j/m_b) n`` (lab eqs. 12, 15, 24). Swept again while a sweep applies one, at most
    ``passes`` times. A pair gets an impulse when it touches or overlaps, or, if it was already in
    contact, when it is within ``solver_margin`` (so a resting stack stays supported). An impulse
-   on a pair that was not already in contact is a collision event.
+   on a pair that was not already in contact is a collision event, unless it rests: an approach
+   no faster than ``rest_speed + |g . n| dt`` (what gravity alone adds in one step) is a body
+   pressed onto its support, and gets no event; and e = 0 below ``rest_speed + 2 |g . n| dt / e^2``,
+   where the bounce would not rise above the depth one step of approach makes. So a ball on a
+   floor or an incline stays on it and slides without hops or events, and a dropped ball comes
+   to rest after a few bounces instead of hopping forever.
 6. **Push apart**, in the same order, from current positions: a pair still overlapping by ``d``
    moves apart to a gap of ``slop``, shared in inverse proportion to mass; swept the same way.
    Finally every body past a one-sided wall is put back inside it (walls are hard).
 
-Each body pair is oriented as the scalar API orients it: A is the body given first, except that
-a ball always comes before a box (``separation(ball, box)``); a static is always A.
+Each body pair is oriented as the scenario orders pairs: A is the body given first (a ball-box
+pair is computed ball first and its normal negated, as the scalar API mirrors it); a static is
+always A. Negation is exact, so the orientation never changes a number.
 """
 
 from __future__ import annotations
@@ -85,8 +91,8 @@ INLINE = (
 
 #: Columns of an event row: kind (0 impulse, 1 skipped as separating), step, time, id of A (a
 #: static is ``-1 - s``), id of B, normal (3), point (3), v_n, j, e, v_a before (3), v_b before (3),
-#: v_a after (3), v_b after (3), whether e was zeroed below the rest speed.
-EVENT_COLUMNS = 28
+#: v_a after (3), v_b after (3). (A slow approach is a resting contact, never an event.)
+EVENT_COLUMNS = 26
 #: Ledger accumulators: integrator energy change, collisions' energy change, push-apart's,
 #: the collisions' predicted loss sum (1 - e^2)/2 mu v_n^2, the deepest overlap undone,
 #: body impulses applied, static impulses applied.
@@ -339,13 +345,9 @@ def _lex_cmp(pos: Any, i: int, j: int) -> int:
     return 0
 
 
-def _orient(kind: Any, ids: Any, i: int, j: int) -> bool:
-    """Whether the body pair ``(i, j)`` is A-B as the scalar API orients it: a ball before a box,
-    else the body given first."""
-    ball_i = bool(kind[i] <= BALL_3D)
-    ball_j = bool(kind[j] <= BALL_3D)
-    if ball_i != ball_j:
-        return ball_i
+def _orient(ids: Any, i: int, j: int) -> bool:
+    """Whether the body pair ``(i, j)`` is A-B as the scenario orders pairs: the body given first
+    is A (a ball-box pair is computed ball first and flipped, exactly, as the scalar API does)."""
     return bool(ids[i] < ids[j])
 
 
@@ -429,7 +431,7 @@ def _find_contacts(
                     continue
                 a = i
                 b = j
-                if not _orient(kind, ids, i, j):
+                if not _orient(ids, i, j):
                     a = j
                     b = i
                 sep = _body_separation(kind, pos, ext, a, b)
@@ -539,7 +541,6 @@ def _write_event(
     vel: Any,
     a: int,
     b: int,
-    below: bool,
 ) -> Any:
     """Append an event row, growing the buffer when full; returns the buffer."""
     if count >= events.shape[0]:
@@ -562,7 +563,6 @@ def _write_event(
     for k in range(3):
         row[20 + k] = vel[a, k] if a >= 0 else 0.0
         row[23 + k] = vel[b, k]
-    row[26] = 1.0 if below else 0.0
     return events
 
 
@@ -585,6 +585,8 @@ def _impulses(
     touching: Any,
     e_default: float,
     rest_speed: float,
+    gravity: Any,
+    dt: float,
     solver_margin: float,
     first_pass: bool,
     step: int,
@@ -623,12 +625,18 @@ def _impulses(
                 for k in range(6):
                     before[k] = 0.0
                 events = _write_event(
-                    events, event_count[0], 1, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b, False
+                    events, event_count[0], 1, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
                 )
                 event_count[0] += 1
             continue
         e_pair = _pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
-        e = gk.applied_restitution(vn, e_pair, rest_speed)
+        # Resting: an approach no faster than gravity along n gives in one step (plus rest_speed)
+        # is a body pressed onto its support, not an impact: no event. And a bounce is kept only
+        # if it would rise above the depth one step of approach makes, e^2 v^2 / (2 g_n) >= v dt,
+        # else e = 0: shorter hops are numerical (Forward Euler and push-apart feed them).
+        g_dt = abs(gravity[0] * nx + gravity[1] * ny + gravity[2] * nz) * dt
+        resting = rest_speed + g_dt
+        e = gk.applied_restitution(vn, e_pair, rest_speed + 2.0 * g_dt / (e_pair * e_pair) if e_pair > 0.0 else resting)
         j = gk.impulse_magnitude(vn, inv_sum, e)
         ja = j * ima_a
         jb = j * ima[b]
@@ -661,7 +669,7 @@ def _impulses(
         event_count[1] += 1
         if touching[c] == 0:
             touching[c] = 1
-            if record:
+            if record and -vn >= resting:
                 events = _write_event(
                     events,
                     event_count[0],
@@ -678,7 +686,6 @@ def _impulses(
                     vel,
                     a,
                     b,
-                    -vn < rest_speed,
                 )
                 event_count[0] += 1
     return events
@@ -899,6 +906,8 @@ def run_steps(
                 touching,
                 e_default,
                 rest_speed,
+                gravity,
+                dt,
                 solver_margin,
                 p == 0,
                 step + 1,

@@ -1,0 +1,175 @@
+"""The engine's world against oracles that do not share its code: closed forms worked by hand,
+energies recomputed from the frames, a brute-force overlap search."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import re
+import tomllib
+
+import numpy as np
+import pytest
+
+from collisionlab import AABB, Circle, Sphere
+from collisionlab.engine.params import WorldParams
+from collisionlab.model import Body, Obstacle, Scenario, Settings
+from collisionlab.record import RunRecord
+from collisionlab.scenario_file import ScenarioError, parse_scenario
+from collisionlab.world import World, simulate
+
+
+def _kinetic_from_frame(record: RunRecord, masses: dict[str, float], index: int) -> float:
+    frame = record.frames[index]
+    return sum(0.5 * masses[b.name] * b.velocity.length_squared() for b in frame.bodies if masses[b.name] < math.inf)
+
+
+@pytest.mark.parametrize("mode", ["euler", "exact"])
+def test_inelastic_head_on_with_masses_closed_form(mode: str) -> None:
+    # m1 = 1 at +2 m/s, m2 = 3 at -1 m/s, e = 0.5 (1D, along x).
+    # v_cm = (1*2 + 3*(-1)) / 4 = -0.25; v' = v_cm - e (v - v_cm):
+    #   v1' = -0.25 - 0.5 * 2.25 = -1.375, v2' = -0.25 - 0.5 * (-0.75) = 0.125.
+    # KE: before 0.5*4 + 0.5*3*1 = 3.5; after 0.5*1.890625 + 0.5*3*0.015625 = 0.96875; loss 2.53125
+    #   = (1 - e^2)/2 * mu * (v1 - v2)^2 with mu = 3/4: 0.375 * 0.75 * 9 = 2.53125.
+    light = Body("light", Circle((0, 0), 0.5), velocity=(2, 0), mass=1.0)
+    heavy = Body("heavy", Circle((4, 0), 0.5), velocity=(-1, 0), mass=3.0)
+    record = simulate(Scenario(Settings(dt=0.01, steps=150, restitution=0.5, mode=mode), (light, heavy)))
+    (event,) = record.events
+    assert event.velocities_after["light"].x == pytest.approx(-1.375, abs=1e-12)
+    assert event.velocities_after["heavy"].x == pytest.approx(0.125, abs=1e-12)
+    masses = {"light": 1.0, "heavy": 3.0}
+    assert _kinetic_from_frame(record, masses, 0) == pytest.approx(3.5, abs=1e-12)
+    assert _kinetic_from_frame(record, masses, -1) == pytest.approx(0.96875, abs=1e-12)
+    assert record.ledger.collisions == pytest.approx(-2.53125, abs=1e-12)
+    assert record.ledger.kinetic_end == pytest.approx(0.96875, abs=1e-12)
+
+
+def test_forward_euler_gains_g_squared_dt_t_over_two_per_unit_mass() -> None:
+    # Explicit Euler, position first: each step changes m|v|^2/2 - m g.x by m g^2 dt^2 / 2, so
+    # after t = n dt the energy is up m g^2 dt t / 2 (three bodies of mass 1, 2, 5: 8 kg).
+    # g = 9.81, dt = 0.01, t = 1: 8 * 96.2361 * 0.01 / 2 = 3.849444.
+    bodies = [
+        Body(f"b{k}", Sphere((3.0 * k, 0, 0), 0.5), velocity=(0.3 * k, 1.0, -0.2), mass=m)
+        for k, m in enumerate((1.0, 2.0, 5.0))
+    ]
+    record = simulate(Scenario(Settings(dt=0.01, steps=100, gravity=(0, -9.81, 0)), tuple(bodies)), every=100)
+    start, end = record.frames[0], record.frames[-1]
+    masses = {b.name: b.mass for b in bodies}
+
+    def energy(frame_bodies: tuple) -> float:  # from the frames: kinetic plus -m g.x
+        return sum(masses[b.name] * (0.5 * b.velocity.length_squared() + 9.81 * b.position.y) for b in frame_bodies)
+
+    gained = energy(end.bodies) - energy(start.bodies)
+    assert gained == pytest.approx(8 * 9.81**2 * 0.01 * 1.0 / 2, rel=1e-9)
+    assert record.ledger.integrator == pytest.approx(gained, rel=1e-9)
+
+
+def test_a_kinematic_paddle_reflects_a_ball_in_its_own_frame() -> None:
+    # A paddle of infinite mass moving up at 1 m/s; the ball arrives at v and leaves at 2*1 - v
+    # (e = 1, reflection in the paddle's frame); the paddle neither slows nor falls.
+    paddle = Body("paddle", AABB((-1, -0.1, -1), (1, 0.1, 1)), velocity=(0, 1, 0), mass=math.inf)
+    ball = Body("ball", Sphere((0, 2, 0), 0.5), velocity=(0, -1, 0))
+    for mode in ("euler", "exact"):
+        settings = Settings(dt=0.01, steps=100, restitution=1.0, gravity=(0, -9.81, 0), mode=mode)
+        record = simulate(Scenario(settings, (paddle, ball)))
+        (event,) = record.events
+        before, after = event.velocities_before["ball"].y, event.velocities_after["ball"].y
+        assert after == pytest.approx(2.0 - before, abs=1e-12)
+        assert all(f.bodies[0].velocity.y == 1.0 for f in record.frames)
+
+
+def test_a_permutation_of_the_bodies_permutes_the_run() -> None:
+    rng = np.random.default_rng(5)
+    bodies = []
+    for k in range(30):
+        x, y = (k % 6) * 1.3, (k // 6) * 1.3
+        shape = AABB((x - 0.4, y - 0.3), (x + 0.4, y + 0.3)) if k % 3 == 0 else Circle((x, y), 0.5)
+        bodies.append(Body(f"b{k}", shape, velocity=tuple(rng.uniform(-2, 2, 2)), mass=float(rng.uniform(0.5, 2))))
+    walls = [Obstacle("floor", AABB((-5, -3), (15, -1)))]
+    settings = Settings(dt=0.01, steps=200, restitution=0.7, gravity=(0, -3, 0))
+    one = simulate(Scenario(settings, tuple(bodies), tuple(walls)), every=200)
+    order = rng.permutation(len(bodies))
+    two = simulate(Scenario(settings, tuple(bodies[i] for i in order), tuple(walls)), every=200)
+    end_one = {b.name: b for b in one.frames[-1].bodies}
+    end_two = {b.name: b for b in two.frames[-1].bodies}
+    assert end_one == end_two
+    assert len(one.events) == len(two.events) > 10
+
+
+def test_compiled_and_python_kernels_agree_to_the_last_bit() -> None:
+    text = """
+    [simulation]
+    dt = 0.005
+    steps = 60
+    restitution = 0.8
+    gravity = [0, -9.81, 0]
+    [[gas]]
+    name = "ball"
+    shape = "sphere"
+    radius = 0.1
+    region = [[-1, 0.2, -1], [1, 1.5, 1]]
+    count = 60
+    seed = 3
+    [[gas]]
+    name = "crate"
+    shape = "aabb"
+    size = [0.3, 0.2, 0.3]
+    region = [[-1, 1.6, -1], [1, 2.2, 1]]
+    count = 6
+    seed = 4
+    [[static]]
+    name = "incline"
+    shape = "plane"
+    point = [0, 0, 0]
+    normal = [0.3, 1, 0]
+    """
+    scenario = parse_scenario(tomllib.loads(text))
+    slow = World(scenario, WorldParams(compiled=False)).run(every=20)
+    fast = World(scenario, WorldParams(compiled=True)).run(every=20)
+    assert [f.bodies for f in slow.frames] == [f.bodies for f in fast.frames]
+    assert slow.events == fast.events
+    assert len(slow.events) > 0
+
+
+# --- [[gas]] tables -----------------------------------------------------------------------------
+def _gas(extra: str, shape: str = "circle", size: str = "radius = 0.5") -> Scenario:
+    return parse_scenario(tomllib.loads(f'[[gas]]\nname = "g"\nshape = "{shape}"\n{size}\n{extra}'), "f.toml")
+
+
+def test_a_gas_table_places_its_bodies_without_overlap() -> None:
+    scenario = _gas("region = [[0, 0], [20, 20]]\ncount = 300\nseed = 9\nkT = 2.0\nmass = 0.5")
+    centres = np.array([b.position.as_tuple()[:2] for b in scenario.bodies])
+    assert len(centres) == 300 and [b.name for b in scenario.bodies[:2]] == ["g0", "g1"]
+    gaps = [np.linalg.norm(p - q) for p, q in itertools.combinations(centres, 2)]
+    assert min(gaps) > 1.0  # diameter 1: brute force over all 44,850 pairs
+    assert np.all(centres >= 0.5) and np.all(centres <= 19.5)  # inside the region
+    # Maxwell-Boltzmann: each component's variance kT/m = 4; 600 samples: standard error of a
+    # variance sqrt(2/600) = 5.8%, so 20% is more than 3 sigma.
+    v = np.array([b.velocity.as_tuple()[:2] for b in scenario.bodies]).ravel()
+    assert np.var(v) == pytest.approx(4.0, rel=0.2)
+    again = _gas("region = [[0, 0], [20, 20]]\ncount = 300\nseed = 9\nkT = 2.0\nmass = 0.5")
+    assert again.bodies == scenario.bodies  # the seed decides everything
+
+
+def test_a_gas_fraction_gives_the_count() -> None:
+    # 3D spheres r = 1 in a 10 x 10 x 10 box at fraction 0.2: 0.2 * 1000 / (4/3 pi) = 47.7 -> 48.
+    scenario = _gas("region = [[0, 0, 0], [10, 10, 10]]\nfraction = 0.2", "sphere", "radius = 1.0")
+    assert len(scenario.bodies) == 48
+
+
+@pytest.mark.parametrize(
+    ("extra", "field"),
+    [
+        ("region = [[0, 0], [3, 3]]\ncount = 10", "gas[0].count"),  # a 3 x 3 region holds 2 x 2
+        ("region = [[0, 0], [9, 9]]\ncount = 4\nfraction = 0.1", "gas[0].count"),
+        ("region = [[0, 0], [9, 9]]", "gas[0].count"),
+        ("region = [[0, 0], [9, 0]]\ncount = 2", "gas[0].region"),
+        ("region = [0, 0]\ncount = 2", "gas[0].region"),
+        ("region = [[0, 0], [9, 9]]\ncount = 2\nkT = 1\nvelocity = [1, 0]", "gas[0].kT"),
+        ("region = [[0, 0], [9, 9]]\ncount = -2", "gas[0].count"),
+        ("region = [[0, 0], [9, 9]]\ncount = 2\ncolour = 1", "gas[0].colour"),
+    ],
+)
+def test_bad_gas_tables_name_the_field(extra: str, field: str) -> None:
+    with pytest.raises(ScenarioError, match=rf"^f\.toml: {re.escape(field)}:"):
+        _gas(extra)
