@@ -83,7 +83,6 @@ INLINE = (
     "_cell_of",
     "_lex_cmp",
     "_orient",
-    "_bounds_meet",
     "_static_bounds_meet",
     "_pair_key",
     "_contains",
@@ -351,21 +350,6 @@ def _orient(ids: Any, i: int, j: int) -> bool:
     return bool(ids[i] < ids[j])
 
 
-def _bounds_meet(kind: Any, pos: Any, ext: Any, i: int, j: int, margin: float) -> bool:
-    """A cheap test that bodies ``i`` and ``j`` may be within ``margin``: their bounding boxes,
-    and for two balls the squared distance of the centres."""
-    d2 = 0.0
-    for k in range(3):
-        d = pos[j, k] - pos[i, k]
-        if abs(d) > ext[i, k] + ext[j, k] + margin:
-            return False
-        d2 += d * d
-    if kind[i] <= BALL_3D and kind[j] <= BALL_3D:
-        reach = ext[i, 0] + ext[j, 0] + margin
-        return bool(d2 <= reach * reach * _WIDEN)
-    return True
-
-
 def _static_bounds_meet(s_kind: Any, s_a: Any, s_b: Any, s: int, pos: Any, ext: Any, b: int, margin: float) -> bool:
     """A cheap test that body ``b`` may be within ``margin`` of static ``s``: bounding boxes for a
     fixed box; for a line, plane or wall the centre's distance against the body's projected
@@ -427,8 +411,21 @@ def _find_contacts(
             j0 = i + 1 if t == 0 else cell_start[c2]
             j1 = cell_start[c2 + 1]
             for j in range(j0, j1):
-                if not _bounds_meet(kind, pos, ext, i, j, margin):
+                # The cheap reject, written out here (it runs for every candidate pair): the
+                # bounding boxes, then for two balls the squared distance of the centres.
+                dx = pos[j, 0] - pos[i, 0]
+                dy = pos[j, 1] - pos[i, 1]
+                dz = pos[j, 2] - pos[i, 2]
+                if (
+                    abs(dx) > ext[i, 0] + ext[j, 0] + margin
+                    or abs(dy) > ext[i, 1] + ext[j, 1] + margin
+                    or abs(dz) > ext[i, 2] + ext[j, 2] + margin
+                ):
                     continue
+                if kind[i] <= BALL_3D and kind[j] <= BALL_3D:
+                    reach = ext[i, 0] + ext[j, 0] + margin
+                    if dx * dx + dy * dy + dz * dz > reach * reach * _WIDEN:
+                        continue
                 a = i
                 b = j
                 if not _orient(ids, i, j):
@@ -442,7 +439,16 @@ def _find_contacts(
                         cd[count] = -sep[0]
                     count += 1
         for s in range(s_kind.shape[0]):
-            if not _static_bounds_meet(s_kind, s_a, s_b, s, pos, ext, i, margin):
+            if s_kind[s] != STATIC_BOX:  # a line, plane or wall: the centre's side, written out
+                side = (
+                    s_b[s, 0] * (pos[i, 0] - s_a[s, 0])
+                    + s_b[s, 1] * (pos[i, 1] - s_a[s, 1])
+                    + s_b[s, 2] * (pos[i, 2] - s_a[s, 2])
+                )
+                reach = abs(s_b[s, 0]) * ext[i, 0] + abs(s_b[s, 1]) * ext[i, 1] + abs(s_b[s, 2]) * ext[i, 2]
+                if (abs(side) if s_kind[s] == STATIC_BOUNDARY else side) > reach + margin:
+                    continue
+            elif not _static_bounds_meet(s_kind, s_a, s_b, s, pos, ext, i, margin):
                 continue
             sep = _static_separation(s_kind, s_a, s_b, s, kind, pos, ext, i)
             if sep[0] <= margin:
@@ -636,7 +642,14 @@ def _impulses(
         # else e = 0: shorter hops are numerical (Forward Euler and push-apart feed them).
         g_dt = abs(gravity[0] * nx + gravity[1] * ny + gravity[2] * nz) * dt
         resting = rest_speed + g_dt
-        e = gk.applied_restitution(vn, e_pair, rest_speed + 2.0 * g_dt / (e_pair * e_pair) if e_pair > 0.0 else resting)
+        squared = e_pair * e_pair
+        if g_dt == 0.0:
+            bounce_floor = rest_speed
+        elif squared > 0.0:
+            bounce_floor = rest_speed + 2.0 * g_dt / squared
+        else:
+            bounce_floor = math.inf
+        e = gk.applied_restitution(vn, e_pair, bounce_floor)
         j = gk.impulse_magnitude(vn, inv_sum, e)
         ja = j * ima_a
         jb = j * ima[b]

@@ -140,6 +140,13 @@ class World:
             f"{self.scenario.settings.mode}, step {self.step_index} of {self.scenario.settings.steps})"
         )
 
+    def nbytes(self) -> int:
+        """Bytes of every array the world holds: state, statics, scratch and buffers."""
+        s = self._statics
+        arrays = [s.kind, s.a, s.b, s.e, self._scratch_f, self._scratch_i, self._cell_start, self._dest]
+        arrays += [self._touch_keys, *self._contacts, self._events]
+        return self._bodies.nbytes() + sum(int(a.nbytes) for a in arrays)
+
     # --- state, in the order the bodies were given --------------------------------------------
     def _given_order(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> np.ndarray[Any, np.dtype[np.float64]]:
         out = np.empty_like(stored)

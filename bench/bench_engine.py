@@ -1,0 +1,170 @@
+#!/usr/bin/env python3
+"""The engine's figures for issue "One engine", each run as a whole command, medians of >= 3.
+
+    python3 tasks.py bench-engine            # everything (several minutes)
+    python3 tasks.py bench-engine --quick    # fewer steps
+
+1. ``collisionlab run`` on a scenario file of 2,000 spheres on a tilted plane with 20 boxes,
+   in euler and exact modes: body-steps per second of the whole command.
+2. 100,000 bodies from one ``[[gas]]`` table: bytes per body (the engine's arrays, and the peak
+   memory of the process over a bare Python one).
+3. Start-up: ``collisionlab demo`` (the lab's four cases) with an empty compile cache, then warm.
+4. Memory of a long run that streams: the head-on example for 1,000,000 steps with
+   ``--format json --every 1000 --output``: peak RSS.
+
+Every figure is the median of the runs with its min and max. Paste the output into
+bench/README.md with the date and the machine.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CLI = [sys.executable, "-m", "collisionlab"]
+
+INCLINE = """
+[simulation]
+title = "2,000 spheres and 20 boxes on an incline"
+dt = 0.002
+steps = {steps}
+restitution = 0.5
+gravity = [0, -9.81, 0]
+mode = "{mode}"
+
+[[gas]]
+name = "ball"
+shape = "sphere"
+radius = 0.05
+region = [[-2, 1, -2], [2, 3, 2]]
+count = 2000
+kT = 0.01
+seed = 1
+
+[[gas]]
+name = "crate"
+shape = "aabb"
+size = [0.3, 0.3, 0.3]
+region = [[-2, 3.2, -2], [2, 4.2, 2]]
+count = 20
+kT = 0.01
+seed = 2
+
+[[static]]
+name = "incline"
+shape = "plane"
+point = [0, 0, 0]
+normal = [0.2, 1, 0]
+"""
+
+GAS = """
+[simulation]
+title = "100,000 discs"
+dt = 0.01
+steps = {steps}
+
+[[gas]]
+name = "d"
+shape = "circle"
+radius = 0.5
+region = [[0, 0], [400, 400]]
+count = 100000
+seed = 1
+"""
+
+
+def timed(command: list[str], env: dict[str, str] | None = None) -> tuple[float, int, str]:
+    """Wall seconds, peak RSS in bytes and stderr of one run of ``command``."""
+    start = time.perf_counter()
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, cwd=ROOT)
+    _, status, usage = os.wait4(process.pid, 0)
+    seconds = time.perf_counter() - start
+    err = process.stderr.read().decode() if process.stderr else ""
+    if status != 0:
+        raise SystemExit(f"{' '.join(command)} failed ({status}): {err}")
+    return seconds, usage.ru_maxrss * 1024, err
+
+
+def spread(values: list[float], fmt: str = "{:.3g}") -> str:
+    return f"{fmt.format(statistics.median(values))} (min {fmt.format(min(values))}, max {fmt.format(max(values))})"
+
+
+def incline(runs: int, steps: dict[str, int], folder: Path) -> None:
+    print("1. collisionlab run, 2,000 spheres + 20 boxes + a tilted plane (2,020 bodies)")
+    for mode, count in steps.items():
+        path = folder / f"incline-{mode}.toml"
+        path.write_text(INCLINE.format(steps=count, mode=mode))
+        command = [*CLI, "run", str(path), "--quiet", "--every", str(count), "--format", "json", "--output", os.devnull]
+        timed(command)  # warm-up: the compile cache
+        rates = [2020 * count / timed(command)[0] for _ in range(runs)]
+        print(f"   {mode:5s} {count:6d} steps: {spread(rates, '{:,.0f}')} body-steps/s (whole command)")
+
+
+def gas_memory(runs: int, folder: Path) -> None:
+    print("2. 100,000 discs from one [[gas]] table")
+    path = folder / "gas.toml"
+    path.write_text(GAS.format(steps=10))
+    probe = (
+        "import resource, sys\n"
+        "from collisionlab.scenario_file import load_scenario\n"
+        "from collisionlab.engine.world import World\n"
+        "w = World(load_scenario(sys.argv[1]))\n"
+        "w.step(10)\n"
+        "arrays = w.nbytes()\n"
+        "print(arrays)\n"
+    )
+    bare = [timed([sys.executable, "-c", "import collisionlab.engine.world"])[1] for _ in range(runs)]
+    peaks, arrays = [], []
+    for _ in range(runs):
+        out = subprocess.run([sys.executable, "-c", probe, str(path)], capture_output=True, text=True, check=True)
+        arrays.append(int(out.stdout.strip()) / 100_000)
+        peaks.append((timed([sys.executable, "-c", probe, str(path)])[1] - statistics.median(bare)) / 100_000)
+    print(f"   engine arrays: {spread(arrays, '{:.0f}')} B/body")
+    print(f"   peak RSS over a bare import (includes the scenario's Body objects): {spread(peaks, '{:.0f}')} B/body")
+
+
+def start_up(runs: int) -> None:
+    print("3. collisionlab demo (the lab's four cases)")
+    cold = []
+    for _ in range(runs):
+        with tempfile.TemporaryDirectory() as cache:
+            env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+            cold.append(timed([*CLI, "demo"], env)[0])
+    warm = [timed([*CLI, "demo"])[0] for _ in range(runs)]
+    print(f"   empty compile cache: {spread(cold)} s; warm: {spread(warm)} s")
+
+
+def long_run(runs: int, steps: int, folder: Path) -> None:
+    print(f"4. head-on example, {steps:,} steps, --format json --every 1000 --output")
+    out = folder / "f.json"
+    command = [*CLI, "run", "examples/head-on.toml", "--steps", str(steps), "--format", "json"]
+    command += ["--every", "1000", "--output", str(out)]
+    results = [timed(command) for _ in range(runs)]
+    print(f"   wall {spread([r[0] for r in results])} s, peak RSS {spread([r[1] / 2**20 for r in results])} MB")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true", help="fewer steps (a smoke run)")
+    parser.add_argument("--runs", type=int, default=3)
+    args = parser.parse_args()
+    print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d')}")
+    with tempfile.TemporaryDirectory() as folder:
+        where = Path(folder)
+        incline(args.runs, {"euler": 200 if args.quick else 2000, "exact": 2 if args.quick else 5}, where)
+        gas_memory(args.runs, where)
+        start_up(args.runs)
+        long_run(args.runs, 10_000 if args.quick else 1_000_000, where)
+    print(f"(children's peak: {resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024:.0f} MB)")
+
+
+if __name__ == "__main__":
+    main()
