@@ -3,7 +3,7 @@
 
     python3 tasks.py run     # a virtual environment in .venv, then the lab's four demos
     python3 tasks.py test    # the same with the test tools, then ruff, mypy and pytest
-    python3 tasks.py bench   # the many-body benchmark against pymunk (bench/README.md)
+    python3 tasks.py bench   # the many-body benchmark against pymunk and pybullet (bench/README.md)
 
 Each step is printed before it runs; the first failure stops with its exit status.
 """
