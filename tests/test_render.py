@@ -16,6 +16,7 @@ from collisionlab.model import Body, Obstacle, Scenario, Settings
 from collisionlab.record import RunRecord
 from collisionlab.shapes import Circle, Line, Plane, Sphere
 from collisionlab.world import simulate
+from tests.schema_check import check
 
 
 def drop() -> RunRecord:
@@ -156,7 +157,7 @@ def test_csv_numbers_are_exact() -> None:
 
 
 def test_json_has_the_documented_shape() -> None:
-    data = json.loads(render_json(head_on()))
+    data = check("run", json.loads(render_json(head_on())))
     assert {"frames", "events", "summary"} <= set(data)
     for frame in data["frames"]:
         assert set(frame) == {"step", "time", "bodies"}
@@ -174,13 +175,13 @@ def test_json_has_the_documented_shape() -> None:
 
 
 def test_json_static_events_list_only_the_moving_body() -> None:
-    (event,) = json.loads(render_json(drop()))["events"]
+    (event,) = check("run", json.loads(render_json(drop())))["events"]
     assert event["bodies"] == ["floor", "ball"]
     assert list(event["velocities_after"]) == ["ball"]
 
 
 def test_json_every_keeps_every_kth_frame_and_the_last() -> None:
-    data = json.loads(render_json(drop(), every=4))
+    data = check("run", json.loads(render_json(drop(), every=4)))
     assert [f["step"] for f in data["frames"]] == [0, 4, 8, 10]
     assert len(data["events"]) == 1
 
