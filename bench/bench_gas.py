@@ -350,10 +350,25 @@ def sweep_vs_grid(n: int) -> tuple[float, float]:
     return t_sweep / reps, t_grid / reps
 
 
+# --- scaling: cost per body-step at 1M against 10k ----------------------------------------------------------
+def scaling(pairs: int = 5) -> list[float]:
+    """Cost per body-step at 1M over that at 10k, measured in interleaved pairs (10k, then 1M), so a
+    change in the machine's load between the two sizes does not bias the ratio: one ratio per pair.
+    Both sizes start from their settled gas and time the same steps (the same phase)."""
+    small, large = settled(gas_scenario(10_000, 2, SEED)), settled(gas_scenario(1_000_000, 2, SEED))
+    ratios = []
+    for _ in range(pairs):
+        at_10k = run_collisionlab(small, STEPS[10_000])["rate"]
+        at_1m = run_collisionlab(large, STEPS[1_000_000])["rate"]
+        ratios.append(at_10k / at_1m)
+    return ratios
+
+
 # --- main ------------------------------------------------------------------------------------------------
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="1k and 10k only, no 1M, no design figures")
+    parser.add_argument("--scaling-only", action="store_true", help="only the 1M-against-10k cost ratio")
     parser.add_argument("--memory-probe", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_probe:
@@ -376,6 +391,9 @@ def main() -> None:
         f"# every engine: start after {SETTLE_STEPS} settling steps, {WARMUP_STEPS} untimed steps, then the timed steps"
     )
     print("# body-steps/s: median of the runs (lowest-highest)")
+    if args.scaling_only:
+        _print_scaling()
+        return
     sizes = [1000, 10_000] if args.quick else [1000, 10_000, 100_000, 1_000_000]
     ours_by_n: dict[int, Figure] = {}
     for n in sizes:
@@ -400,8 +418,7 @@ def main() -> None:
             line.append(f"  collisionlab / naive (medians): {ours.median / naive.median:.0f}x")
         print("\n".join(line), flush=True)
     if 1_000_000 in ours_by_n:
-        ratio = ours_by_n[10_000].median / ours_by_n[1_000_000].median
-        print(f"# cost per body-step at 1M / at 10k (same steps, same phase; medians): {ratio:.2f}")
+        _print_scaling()
         probe = subprocess.run(
             [sys.executable, __file__, "--memory-probe", "1000000"], capture_output=True, text=True, check=True
         )
@@ -428,6 +445,15 @@ def main() -> None:
         for n in (10_000, 100_000):
             t_sweep, t_grid = sweep_vs_grid(n)
             print(f"# all pairs once at N = {n:,}: sort-and-sweep {t_sweep * 1e3:.2f} ms, grid {t_grid * 1e3:.2f} ms")
+
+
+def _print_scaling() -> None:
+    ratios = scaling()
+    print(
+        f"# cost per body-step at 1M / at 10k, {len(ratios)} interleaved pairs, {STEPS[1_000_000]} steps each from the "
+        f"settled gas: median {statistics.median(ratios):.2f} ({min(ratios):.2f}-{max(ratios):.2f})",
+        flush=True,
+    )
 
 
 def _version(name: str) -> str:
