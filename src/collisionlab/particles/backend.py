@@ -4,39 +4,23 @@ numba is a dependency, but optional at run time (where it cannot be installed, t
 still works). ``"auto"`` takes numba when it imports, else numpy; both give the same numbers to
 the last bit, numba much faster (bench/README.md has the figures).
 
-numba's compiled kernels are cached in the user's cache folder (``NUMBA_CACHE_DIR``, set here
-before numba is imported unless the user set it), never inside the installed package.
+numba's compiled kernels are cached in the user's cache folder, never inside the installed
+package (:mod:`collisionlab.numba_cache`).
 """
 
 from __future__ import annotations
 
-import os
-import sys
-from pathlib import Path
 from types import ModuleType
 
 import numpy as np
 
 from ..errors import InvalidInputError
+from ..numba_cache import use_user_cache
 
-__all__ = ["BACKENDS", "compiled_kernels", "numba_cache_dir", "pick_backend", "warm_up"]
-
-
-def numba_cache_dir() -> Path:
-    """The user's cache folder for collisionlab's compiled kernels: ``$XDG_CACHE_HOME`` (or
-    ``~/.cache``) on Linux, ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows, then
-    ``collisionlab/numba``."""
-    if sys.platform == "win32":
-        base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
-    elif sys.platform == "darwin":
-        base = Path.home() / "Library" / "Caches"
-    else:
-        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "collisionlab" / "numba"
+__all__ = ["BACKENDS", "compiled_kernels", "pick_backend", "warm_up"]
 
 
-# numba reads this once, when it is first imported: by compiled_kernels() below.
-os.environ.setdefault("NUMBA_CACHE_DIR", str(numba_cache_dir()))
+use_user_cache()  # numba reads NUMBA_CACHE_DIR once, when it is first imported: by compiled_kernels()
 
 #: The backends by name; ``"auto"`` means numba when it is installed.
 BACKENDS: tuple[str, ...] = ("auto", "numba", "numpy")
