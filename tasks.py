@@ -2,8 +2,8 @@
 """Set up and run collisionlab with nothing but Python 3.11 and pip (``make`` is optional).
 
     python3 tasks.py run     # a virtual environment in .venv, then the lab's four demos
-    python3 tasks.py test    # the same with the test tools, then ruff, mypy and pytest
-    python3 tasks.py bench   # the many-body benchmark against pymunk (bench/README.md)
+    python3 tasks.py test    # the same with the test tools, then ruff, mypy, the docs site and pytest
+    python3 tasks.py bench   # the many-body benchmark against pymunk and pybullet (bench/README.md)
     python3 tasks.py bench-engine   # the engine's figures: a 2,020-body scenario, memory, start-up
 
 Each step is printed before it runs; the first failure stops with its exit status.
@@ -57,6 +57,7 @@ def test() -> None:
     sh(BIN / "ruff", "check", "src", "tests", "bench", "tasks.py")
     sh(BIN / "ruff", "format", "--check", "src", "tests", "bench", "tasks.py")
     sh(BIN / "mypy")
+    sh(BIN / "mkdocs", "build", "--strict", "--quiet")  # the API reference; a warning fails it
     sh("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
     sh(PYTHON, "-m", "pytest")
 

@@ -1,12 +1,18 @@
 """Many-body gas: collisionlab's ParticleWorld against pymunk, pybullet and the naive O(N^2) loop.
 
-One invocation runs the same scenario everywhere and prints body-steps per second side by side
+One invocation runs the same workload everywhere and prints body-steps per second side by side
 with the ratios. The scenario (``collisionlab.particles.gas_scenario``): N equal discs of radius 1
 on a lattice, area fraction 0.2 of a square box, seeded Gaussian velocities, dt such that the rms
 speed covers 0.1 radius per step, e = 1, no gravity, four static walls.
 
-    pip install -e '.[fast,bench]'   # numba, pymunk; pybullet optional: pip install pybullet
-    python bench/bench_gas.py                 # everything (about 5 minutes on 2 cores)
+The workload is the same for every engine: the lattice is first relaxed by ``SETTLE_STEPS``
+steps (collisionlab, untimed), and every engine starts from those very positions and velocities,
+takes ``WARMUP_STEPS`` untimed steps (buffers, caches), then ``STEPS[n]`` timed steps: the same
+number for every engine at a given N, and the same for 10k and 1M, so the scaling figure compares
+the same phase of the gas. Each figure is the median of ``repeats`` runs (at least 3), each from a
+fresh copy of the start, with the lowest and highest run as the spread.
+
+    python3 tasks.py bench                    # installs pymunk and pybullet, then runs this
     python bench/bench_gas.py --quick         # 1k and 10k only
 
 Not a test: it asserts nothing and prints numbers (recorded in bench/README.md).
@@ -15,24 +21,31 @@ Not a test: it asserts nothing and prints numbers (recorded in bench/README.md).
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import importlib.util
 import math
 import platform
+import statistics
 import subprocess
 import sys
 import time
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
 
 from collisionlab.particles import gas_scenario, warm_up
-from collisionlab.particles import numpy_kernels as nk
-from collisionlab.particles.broadphase import half_stencil, max_cells
 from collisionlab.particles.scenarios import GasScenario
 from collisionlab.tolerances import CONTACT_SLOP
 
 SEED = 0
+#: Steps that relax the lattice into a gas before anything is timed (about four collisions per body).
+SETTLE_STEPS = 200
+#: Untimed steps every engine takes from the common start (allocations, caches).
+WARMUP_STEPS = 2
+#: Timed steps at each N, the same for every engine; 10k and 1M alike so the scaling compares one phase.
+STEPS = {1000: 100, 10_000: 20, 100_000: 20, 1_000_000: 20}
 
 
 def timed(function: Callable[[], Any]) -> tuple[float, Any]:
@@ -41,10 +54,40 @@ def timed(function: Callable[[], Any]) -> tuple[float, Any]:
     return time.perf_counter() - start, result
 
 
+@dataclasses.dataclass
+class Figure:
+    """Body-steps per second over several runs: the median and the spread (lowest, highest)."""
+
+    rates: list[float]
+    drift: float
+    extra: dict[str, float]
+
+    @property
+    def median(self) -> float:
+        return statistics.median(self.rates)
+
+    def text(self, scale: float, unit: str) -> str:
+        return f"{self.median / scale:.3g} {unit} ({min(self.rates) / scale:.3g}-{max(self.rates) / scale:.3g})"
+
+
+def measure(run: Callable[[], dict[str, float]], repeats: int) -> Figure:
+    results = [run() for _ in range(repeats)]
+    rates = [r.pop("rate") for r in results]
+    drift = results[-1].pop("drift")
+    return Figure(rates, drift, results[-1])
+
+
+def settled(gas: GasScenario) -> GasScenario:
+    """The same gas after ``SETTLE_STEPS`` steps: off the lattice, collisions under way."""
+    world = gas.world()
+    world.step(gas.dt, SETTLE_STEPS)
+    return dataclasses.replace(gas, positions=world.positions.copy(), velocities=world.velocities.copy())
+
+
 # --- collisionlab ---------------------------------------------------------------------------------------
 def run_collisionlab(gas: GasScenario, steps: int) -> dict[str, float]:
     world = gas.world()
-    world.step(gas.dt, 2)  # grid buffers allocated; compile already done by warm_up()
+    world.step(gas.dt, WARMUP_STEPS)  # grid buffers allocated; compile already done by warm_up()
     energy = world.kinetic_energy()
     seconds, report = timed(lambda: world.step(gas.dt, steps))
     return {
@@ -84,7 +127,9 @@ def run_pymunk(gas: GasScenario, steps: int, spatial_hash: bool) -> dict[str, fl
     space = pymunk.Space()
     space.gravity = (0.0, 0.0)
     if spatial_hash:
-        space.use_spatial_hash(2.0 * gas.radius, max(1000, 4 * gas.n))
+        # As pymunk's docs advise: cells the size of a shape (a disc's diameter), and about ten
+        # times as many cells as objects.
+        space.use_spatial_hash(2.0 * gas.radius, 10 * gas.n)
     bodies = []
     for (x, y), (vx, vy) in zip(gas.positions.tolist(), gas.velocities.tolist(), strict=True):
         body = pymunk.Body(1.0, pymunk.moment_for_circle(1.0, 0.0, gas.radius))
@@ -106,7 +151,8 @@ def run_pymunk(gas: GasScenario, steps: int, spatial_hash: bool) -> dict[str, fl
     def energy() -> float:
         return sum(0.5 * (b.velocity.x**2 + b.velocity.y**2) for b in bodies)
 
-    space.step(gas.dt)
+    for _ in range(WARMUP_STEPS):
+        space.step(gas.dt)
     start = energy()
 
     def go() -> None:
@@ -124,7 +170,11 @@ def run_pybullet(gas: GasScenario, steps: int) -> dict[str, float]:
     client = pb.connect(pb.DIRECT)
     pb.setGravity(0, 0, 0, physicsClientId=client)
     pb.setTimeStep(gas.dt, physicsClientId=client)
-    pb.setPhysicsEngineParameter(restitutionVelocityThreshold=0.0, physicsClientId=client)
+    # Configured for an elastic gas, so that its energy stays sane: no Baumgarte push-out
+    # (erp = contactERP = 0: by default it turns penetration into velocity, and the gas heats up),
+    # and below, contactProcessingThreshold = 0 (no speculative contacts, which close a gap
+    # inelastically and cool the gas). With its defaults the energy grows by tens of percent.
+    pb.setPhysicsEngineParameter(restitutionVelocityThreshold=0.0, erp=0.0, contactERP=0.0, physicsClientId=client)
     sphere = pb.createCollisionShape(pb.GEOM_SPHERE, radius=gas.radius, physicsClientId=client)
     ids = []
     for position in gas.positions.tolist():
@@ -139,6 +189,7 @@ def run_pybullet(gas: GasScenario, steps: int) -> dict[str, float]:
             lateralFriction=0.0,
             linearDamping=0.0,
             angularDamping=0.0,
+            contactProcessingThreshold=0.0,
             physicsClientId=client,
         )
     half = gas.side / 2.0
@@ -150,12 +201,15 @@ def run_pybullet(gas: GasScenario, steps: int) -> dict[str, float]:
             centre[axis] = half + sign * (half + 0.5)
             shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=extents, physicsClientId=client)
             wall = pb.createMultiBody(0.0, shape, basePosition=centre, physicsClientId=client)
-            pb.changeDynamics(wall, -1, restitution=1.0, lateralFriction=0.0, physicsClientId=client)
+            pb.changeDynamics(
+                wall, -1, restitution=1.0, lateralFriction=0.0, contactProcessingThreshold=0.0, physicsClientId=client
+            )
 
     def energy() -> float:
         return sum(0.5 * sum(c * c for c in pb.getBaseVelocity(b, physicsClientId=client)[0]) for b in ids)
 
-    pb.stepSimulation(physicsClientId=client)
+    for _ in range(WARMUP_STEPS):
+        pb.stepSimulation(physicsClientId=client)
     start = energy()
 
     def go() -> None:
@@ -211,6 +265,13 @@ def run_naive(gas: GasScenario, steps: int) -> dict[str, float]:
                 elif py[i] > side - r:
                     py[i], vy[i] = side - r - CONTACT_SLOP, -abs(vy[i])
 
+    def warm() -> None:
+        nonlocal steps
+        timed_steps, steps = steps, WARMUP_STEPS
+        go()
+        steps = timed_steps
+
+    warm()
     start = sum(a * a + b * b for a, b in zip(vx, vy, strict=True))
     seconds, _ = timed(go)
     end = sum(a * a + b * b for a, b in zip(vx, vy, strict=True))
@@ -220,35 +281,33 @@ def run_naive(gas: GasScenario, steps: int) -> dict[str, float]:
 # --- design measurements: Jacobi impulses, sort-and-sweep ------------------------------------------------------
 def jacobi_drift(gas: GasScenario, steps: int) -> tuple[float, float]:
     """Energy drift of the same gas when every impulse of a step is computed from the velocities
-    before the step and summed (Jacobi), against the world's sequential pass; numpy, plain."""
+    before the step and summed (Jacobi), against the world's sequential pass. Plain numpy on the
+    public broad phase (``grid_pairs``); walls reflect the velocity component (energy-exact)."""
+    from collisionlab.particles import grid_pairs
+
     pos, vel = gas.positions.copy(), gas.velocities.copy()
-    rad = np.full(gas.n, gas.radius)
-    world = gas.world()
-    normals, offsets = world.walls
-    stencil, cells = half_stencil(2), max_cells(gas.n)
+    r, side = gas.radius, gas.side
     start = float(np.sum(vel**2))
     for _ in range(steps):
         pos += vel * gas.dt
-        ca, cb, _ = nk.find_contacts(pos, rad, normals, offsets, 2.0 * gas.radius, cells, stencil)
-        pair = cb >= 0
-        a, b = ca[pair], cb[pair]
+        pairs = grid_pairs(pos, r)
+        a, b = pairs[:, 0], pairs[:, 1]
         delta = pos[b] - pos[a]
         dist = np.sqrt(np.sum(delta**2, axis=1))
-        n = delta / dist[:, None]
+        n = delta / np.where(dist > 0.0, dist, 1.0)[:, None]
         vn = np.sum((vel[b] - vel[a]) * n, axis=1)
         j = np.where(vn < 0.0, -vn, 0.0)  # e = 1, unit masses: -(1 + e) vn / 2
         dv = np.zeros_like(vel)
         np.add.at(dv, a, -n * j[:, None])
         np.add.at(dv, b, n * j[:, None])
-        wall = ~pair
-        wa, wn = ca[wall], normals[-1 - cb[wall]]
-        wv = np.sum(vel[wa] * wn, axis=1)
-        np.add.at(dv, wa, -wn * np.where(wv < 0.0, 2.0 * wv, 0.0)[:, None])
         vel += dv
-        depth = 2.0 * gas.radius - dist + CONTACT_SLOP
-        np.add.at(pos, a, -n * (depth / 2)[:, None])
-        np.add.at(pos, b, n * (depth / 2)[:, None])
-        np.clip(pos, gas.radius + CONTACT_SLOP, gas.side - gas.radius - CONTACT_SLOP, out=pos)
+        push = (2.0 * r - dist + CONTACT_SLOP) / 2.0
+        np.add.at(pos, a, -n * push[:, None])
+        np.add.at(pos, b, n * push[:, None])
+        low, high = pos < r, pos > side - r
+        vel[low], vel[high] = np.abs(vel[low]), -np.abs(vel[high])
+        np.clip(pos, r + CONTACT_SLOP, side - r - CONTACT_SLOP, out=pos)
+    world = gas.world()
     world.step(gas.dt, steps)
     return float(np.sum(vel**2)) / start - 1.0, world.kinetic_energy() * 2.0 / start - 1.0
 
@@ -287,14 +346,25 @@ def sweep_vs_grid(n: int) -> tuple[float, float]:
     return t_sweep / reps, t_grid / reps
 
 
+# --- scaling: cost per body-step at 1M against 10k ----------------------------------------------------------
+def scaling(pairs: int = 5) -> list[float]:
+    """Cost per body-step at 1M over that at 10k, measured in interleaved pairs (10k, then 1M), so a
+    change in the machine's load between the two sizes does not bias the ratio: one ratio per pair.
+    Both sizes start from their settled gas and time the same steps (the same phase)."""
+    small, large = settled(gas_scenario(10_000, 2, SEED)), settled(gas_scenario(1_000_000, 2, SEED))
+    ratios = []
+    for _ in range(pairs):
+        at_10k = run_collisionlab(small, STEPS[10_000])["rate"]
+        at_1m = run_collisionlab(large, STEPS[1_000_000])["rate"]
+        ratios.append(at_10k / at_1m)
+    return ratios
+
+
 # --- main ------------------------------------------------------------------------------------------------
-def steps_for(n: int, body_steps: float, lowest: int = 20) -> int:
-    return max(lowest, int(body_steps / n))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="1k and 10k only, no 1M, no design figures")
+    parser.add_argument("--scaling-only", action="store_true", help="only the 1M-against-10k cost ratio")
     parser.add_argument("--memory-probe", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.memory_probe:
@@ -302,65 +372,65 @@ def main() -> None:
         return
     have_pymunk = importlib.util.find_spec("pymunk") is not None
     have_pybullet = importlib.util.find_spec("pybullet") is not None
+    versions = [f"numpy {np.__version__}"]
+    for name in ("numba", "pymunk", "pybullet"):
+        if importlib.util.find_spec(name) is not None:
+            versions.append(f"{name} {_version(name)}")
     print(
-        f"# {time.strftime('%Y-%m-%d')}, {platform.processor() or platform.machine()}, "
-        f"{platform.python_implementation()} {platform.python_version()}, numpy {np.__version__}"
+        f"# {time.strftime('%Y-%m-%d %H:%M')}, {platform.processor() or platform.machine()}, "
+        f"{platform.python_implementation()} {platform.python_version()}, {', '.join(versions)}"
     )
     seconds, compiled = timed(warm_up)
     how = "compiled or loaded from cache" if compiled else "numpy only"
     print(f"# numba kernels ready in {seconds:.2f} s ({how})")
-    sizes = [1000, 10_000] if args.quick else [1000, 10_000, 100_000, 1_000_000]
-    rows = []
     print(
-        f"{'N':>9} {'collisionlab':>14} {'pymunk hash':>13} {'pymunk tree':>13} {'naive':>10} "
-        f"{'vs best pymunk':>15} {'vs naive':>9} {'drift cl':>10} {'drift pymunk':>13}"
+        f"# every engine: start after {SETTLE_STEPS} settling steps, {WARMUP_STEPS} untimed steps, then the timed steps"
     )
+    print("# body-steps/s: median of the runs (lowest-highest)")
+    if args.scaling_only:
+        _print_scaling()
+        return
+    sizes = [1000, 10_000] if args.quick else [1000, 10_000, 100_000, 1_000_000]
+    ours_by_n: dict[int, Figure] = {}
     for n in sizes:
-        gas = gas_scenario(n, 2, SEED)
-        ours = run_collisionlab(gas, steps_for(n, 3e7 if n < 1_000_000 else 6e7))
-        hashed = tree = naive = None
+        gas = settled(gas_scenario(n, 2, SEED))
+        steps = STEPS[n]
+        repeats = 5 if n <= 10_000 else 3
+        ours = measure(partial(run_collisionlab, gas, steps), repeats)
+        ours_by_n[n] = ours
+        line = [f"N = {n:,} (2D), {steps} steps, {repeats} runs", f"  collisionlab  {ours.text(1e6, 'M')}"]
+        per_body_step = ours.extra["collisions_per_body_step"]
+        line.append(f"                drift {ours.drift:.1e}, collisions per body-step {per_body_step:.4f}")
+        best = 0.0
         if have_pymunk and n <= 100_000:
-            hashed = run_pymunk(gas, steps_for(n, 3e6, 10), spatial_hash=True)
-            tree = run_pymunk(gas, steps_for(n, 3e6, 10), spatial_hash=False)
+            for label, spatial_hash in (("pymunk hash", True), ("pymunk tree", False)):
+                theirs = measure(partial(run_pymunk, gas, steps, spatial_hash), 3)
+                best = max(best, theirs.median)
+                line.append(f"  {label:<13} {theirs.text(1e6, 'M')}  drift {theirs.drift:.1e}")
+            line.append(f"  collisionlab / best pymunk (medians): {ours.median / best:.1f}x")
         if n == 1000:
-            naive = run_naive(gas, 3)
-        best = max((r["rate"] for r in (hashed, tree) if r), default=math.nan)
-        drift_pymunk = hashed["drift"] if hashed else math.nan
-        rows.append((n, ours, hashed, tree, naive))
-
-        def fmt(result: dict[str, float] | None) -> str:
-            return f"{result['rate'] / 1e6:10.3f} M" if result else f"{'-':>12}"
-
-        naive_rate = f"{naive['rate'] / 1e3:7.2f} k" if naive else "-"
-        versus_pymunk = f"{ours['rate'] / best:14.1f}x" if not math.isnan(best) else f"{'-':>15}"
-        drift_text = f"{drift_pymunk:13.1e}" if not math.isnan(drift_pymunk) else f"{'-':>13}"
-        versus_naive = f"{ours['rate'] / naive['rate']:8.0f}x" if naive else "-"
-        print(
-            f"{n:>9,} {fmt(ours):>14} {fmt(hashed):>13} {fmt(tree):>13} {naive_rate:>10} "
-            f"{versus_pymunk} {versus_naive:>9} {ours['drift']:10.1e} {drift_text}",
-            flush=True,
-        )
-    by_n = {row[0]: row[1] for row in rows}
-    if 1_000_000 in by_n:
-        ratio = by_n[10_000]["rate"] / by_n[1_000_000]["rate"]
-        print(f"# cost per body-step at 1M / at 10k: {ratio:.2f}")
+            naive = measure(partial(run_naive, gas, steps), 3)
+            line.append(f"  naive         {naive.text(1e3, 'k')}  drift {naive.drift:.1e}")
+            line.append(f"  collisionlab / naive (medians): {ours.median / naive.median:.0f}x")
+        print("\n".join(line), flush=True)
+    if 1_000_000 in ours_by_n:
+        _print_scaling()
         probe = subprocess.run(
             [sys.executable, __file__, "--memory-probe", "1000000"], capture_output=True, text=True, check=True
         )
         rss, held = probe.stdout.split()
         print(f"# memory at 1M bodies: {rss} bytes/body peak RSS growth, {held} bytes/body of arrays held")
-    print(f"# collisions per body-step at 100k: {by_n.get(100_000, by_n[10_000])['collisions_per_body_step']:.4f}")
     if have_pybullet:
-        print(
-            f"{'N (3D)':>9} {'collisionlab':>14} {'pybullet':>13} {'ratio':>9} {'drift cl':>10} {'drift pybullet':>15}"
-        )
         for n in [1000, 10_000]:
-            gas = gas_scenario(n, 3, SEED)
-            ours = run_collisionlab(gas, steps_for(n, 3e7))
-            bullet = run_pybullet(gas, steps_for(n, 1e6, 10))
+            gas = settled(gas_scenario(n, 3, SEED))
+            steps = STEPS[n]
+            ours = measure(partial(run_collisionlab, gas, steps), 3)
+            bullet = measure(partial(run_pybullet, gas, steps), 3)
             print(
-                f"{n:>9,} {ours['rate'] / 1e6:12.3f} M {bullet['rate'] / 1e6:11.3f} M "
-                f"{ours['rate'] / bullet['rate']:8.1f}x {ours['drift']:10.1e} {bullet['drift']:15.1e}",
+                f"N = {n:,} (3D), {steps} steps, 3 runs\n"
+                f"  collisionlab  {ours.text(1e6, 'M')}  drift {ours.drift:.1e}\n"
+                f"  pybullet      {bullet.text(1e6, 'M')}  drift {bullet.drift:.1e}\n"
+                f"  collisionlab / pybullet (medians): {ours.median / bullet.median:.1f}x",
                 flush=True,
             )
     else:
@@ -371,6 +441,24 @@ def main() -> None:
         for n in (10_000, 100_000):
             t_sweep, t_grid = sweep_vs_grid(n)
             print(f"# all pairs once at N = {n:,}: sort-and-sweep {t_sweep * 1e3:.2f} ms, grid {t_grid * 1e3:.2f} ms")
+
+
+def _print_scaling() -> None:
+    ratios = scaling()
+    print(
+        f"# cost per body-step at 1M / at 10k, {len(ratios)} interleaved pairs, {STEPS[1_000_000]} steps each from the "
+        f"settled gas: median {statistics.median(ratios):.2f} ({min(ratios):.2f}-{max(ratios):.2f})",
+        flush=True,
+    )
+
+
+def _version(name: str) -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(name)
+    except PackageNotFoundError:
+        return "?"
 
 
 if __name__ == "__main__":

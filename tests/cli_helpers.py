@@ -18,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from collisionlab.cli import Streams, main
+from tests.schema_check import check
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "src" / "collisionlab" / "examples"
@@ -56,7 +57,23 @@ def run_cli(argv: list[str], stdin: str | io.StringIO = "", interactive: bool = 
     source = io.StringIO(stdin) if isinstance(stdin, str) else stdin
     out, err = io.StringIO(), io.StringIO()
     status = main(argv, Streams(source, out, err, interactive))
-    return Result(status, out.getvalue(), err.getvalue())
+    result = Result(status, out.getvalue(), err.getvalue())
+    _check_json_output(argv, result)
+    return result
+
+
+def _check_json_output(argv: list[str], result: Result) -> None:
+    """Every JSON document the CLI writes in a test follows the schema shipped for it."""
+    if result.status != 0 or argv[:1] not in (["run"], ["demo"], ["gas"]) or {"--help", "-h", "--list"} & set(argv):
+        return
+    formats = [argv[i + 1] for i in range(len(argv) - 1) if argv[i] == "--format"]
+    if formats[-1:] != ["json"]:
+        return
+    name = "gas" if argv[0] == "gas" else "run"
+    if "--output" in argv:
+        check(name, json.loads(Path(argv[argv.index("--output") + 1]).read_text(encoding="utf-8")))
+    else:
+        check(name, json.loads(result.out))
 
 
 def typed(*answers: str) -> str:

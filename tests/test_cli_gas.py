@@ -11,11 +11,14 @@ import pytest
 from collisionlab.cli import main
 from collisionlab.cli import progress as progress_module
 from collisionlab.cli.streams import Streams
+from tests.schema_check import check
 
 
 def run(argv: list[str], interactive: bool = False) -> tuple[int, str, str]:
     streams = Streams(stdin=io.StringIO(), stdout=io.StringIO(), stderr=io.StringIO(), interactive=interactive)
     status = main(["gas", *argv], streams)
+    if status == 0 and "--format" in argv and argv[argv.index("--format") + 1] == "json":
+        check("gas", json.loads(streams.stdout.getvalue()))  # type: ignore[attr-defined]
     return status, streams.stdout.getvalue(), streams.stderr.getvalue()  # type: ignore[attr-defined]
 
 

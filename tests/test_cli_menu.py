@@ -22,6 +22,7 @@ from collisionlab.cli.menu import CASES
 from collisionlab.scenario_file import load_scenario
 from collisionlab.world import simulate
 from tests.cli_helpers import SCRIPT, InterruptingStdin, files_in, finish, on_a_terminal, read_until, run_cli, typed
+from tests.schema_check import check_scenario_text
 
 #: How many questions each case asks (the lab's part VI.B, plus masses, e, dt, steps, mode).
 QUESTION_COUNTS = {1: 12, 2: 12, 3: 9, 4: 10, 5: 12, 6: 12, 7: 9, 8: 9}
@@ -310,6 +311,7 @@ def test_the_saved_scenario_file_loads_and_runs_to_the_same_events(case: int, tm
     assert result.status == 0, result.err
     assert f"wrote {path}\nrun it again with: collisionlab run {path}" in result.out
     assert files_in(tmp_path) == ["answers.toml"]  # no temporary file left beside it
+    check_scenario_text(path.read_text(encoding="utf-8"))
     rerun = run_cli(["run", str(path)])
     assert rerun.status == 0, rerun.err
     menu_run = result.out[result.out.index("Menu: ") : result.out.index("save a plot?")]

@@ -430,3 +430,13 @@ def test_one_step_equals_the_scalar_world(seed: int) -> None:
         want_vel = np.array([list(v)[:dim] for v in world.velocities])
         np.testing.assert_allclose(gas.positions, want_pos, rtol=0, atol=1e-12)
         np.testing.assert_allclose(gas.velocities, want_vel, rtol=0, atol=1e-12)
+
+
+def test_repr_counts_and_settings_not_arrays() -> None:
+    world = ParticleWorld(np.zeros((1, 3)), np.zeros((1, 3)), 0.5, box=((-1, -1, -1), (1, 1, 1)), gravity=(0, -1, 0))
+    world.step(0.25, steps=2)
+    assert repr(world) == (
+        f"<ParticleWorld: 1 sphere in 3D, 6 walls, e = 1, gravity on, t = 0.5 s after 2 steps, backend {world.backend}>"
+    )
+    big = ParticleWorld(np.arange(40_000.0).reshape(-1, 2) * 3, np.zeros((20_000, 2)), 1.0)
+    assert repr(big).startswith("<ParticleWorld: 20,000 discs in 2D, 0 walls") and len(repr(big)) < 150

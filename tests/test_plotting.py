@@ -23,6 +23,7 @@ from collisionlab.plotting._data import RunArrays, thin_indices
 from collisionlab.plotting.static import MAX_POINTS, draw_figure
 from collisionlab.record import RunRecord
 from collisionlab.world import World
+from tests.schema_check import check
 
 SMALL = (480, 360)
 
@@ -161,7 +162,7 @@ def test_mp4_with_ffmpeg(runs: dict[str, tuple[RunRecord, Scenario]], tmp_path: 
 def embedded(page: str) -> dict[str, object]:
     match = re.search(r'<script type="application/json" id="collisionlab-run">(.*?)</script>', page, re.S)
     assert match
-    data: dict[str, object] = json.loads(match.group(1))
+    data: dict[str, object] = check("run", json.loads(match.group(1)))
     return data
 
 

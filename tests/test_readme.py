@@ -28,3 +28,11 @@ def test_readme_pasted_run_matches_the_program(capsys):
     text = README.read_text(encoding="utf-8")
     pasted = text.split("```\n", 2)[1].split("```", 1)[0].strip()
     assert pasted == printed
+
+
+def test_readme_links_work_on_a_package_index_page():
+    # A package index shows the README away from the repository: a relative link or image breaks there.
+    text = README.read_text(encoding="utf-8")
+    targets = re.findall(r"\]\(([^)\s]+)", text) + re.findall(r'(?:src|href)="([^"]+)"', text)
+    relative = [t for t in targets if not t.startswith(("https://", "http://", "#", "mailto:"))]
+    assert relative == []

@@ -18,6 +18,7 @@ from collisionlab.scenario_file import ScenarioError, load_scenario, parse_scena
 from collisionlab.shapes import AABB, Plane, Sphere
 from collisionlab.world import simulate
 from tests.cli_helpers import EXAMPLE_NAMES, example, run_cli
+from tests.schema_check import check_scenario_text
 
 BALL = '[[body]]\nname = "ball"\nshape = "sphere"\nposition = [0, 3, 0]\nradius = 0.5\nvelocity = [0, -1, 0]\n'
 FLOOR = '[[static]]\nname = "floor"\nshape = "plane"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\n'
@@ -170,7 +171,7 @@ def test_the_demos_are_the_example_files() -> None:
 
 # --- writing: scenario_to_toml round-trips ---------------------------------------------------------
 def _reload(scenario: Scenario) -> Scenario:
-    return parse_scenario(tomllib.loads(scenario_to_toml(scenario)), "round-trip.toml")
+    return parse_scenario(tomllib.loads(check_scenario_text(scenario_to_toml(scenario))), "round-trip.toml")
 
 
 @pytest.mark.parametrize("name", demo_names())

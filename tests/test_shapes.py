@@ -13,7 +13,19 @@ import numpy as np
 import pytest
 from hypothesis import given
 
-from collisionlab import AABB, Circle, Line, Plane, Sphere, Vector3D
+from collisionlab import (
+    AABB,
+    Circle,
+    InvalidInputError,
+    Line,
+    Plane,
+    Sphere,
+    UnsupportedPairError,
+    Vector3D,
+    contact,
+    distance,
+    intersects,
+)
 from tests.strategies import aabbs, directions, lines, planes, vectors
 
 
@@ -148,3 +160,47 @@ def test_aabb_strategy_dims_and_center_round_trip(box2: AABB, box3: AABB) -> Non
 @given(directions(2))
 def test_line_direction_is_kept(d: Vector3D) -> None:
     assert Line((0, 0), d).direction == d
+
+
+# --- query methods and numpy inputs (issue 13) -----------------------------------------------------
+_SAMPLES = {
+    "circle": Circle((0, 0), 1),
+    "sphere": Sphere((0, 0.5, 0), 1),
+    "box2": AABB((0.5, -1), (2, 1)),
+    "box3": AABB((0.5, -1, -1), (2, 1, 1)),
+    "line": Line((0, -0.5), (1, 0)),
+    "plane": Plane((0, 0, 0), (0, 1, 0)),
+}
+
+
+@pytest.mark.parametrize("a", list(_SAMPLES))
+@pytest.mark.parametrize("b", list(_SAMPLES))
+def test_every_shapes_methods_are_the_free_functions(a: str, b: str) -> None:
+    first, second = _SAMPLES[a], _SAMPLES[b]
+    try:
+        expected = (intersects(first, second), contact(first, second), distance(first, second))
+    except UnsupportedPairError as error:
+        for method in (first.intersects, first.contact, first.distance):
+            with pytest.raises(UnsupportedPairError) as raised:
+                method(second)
+            assert str(raised.value) == str(error)  # the same clear message, naming both types
+        return
+    assert (first.intersects(second), first.contact(second), first.distance(second)) == expected
+
+
+def test_methods_give_the_lab_golden_values() -> None:
+    # Sphere centre 0.5 above the floor, radius 1: |Proj_n PQ| - r = 0.5 - 1 = -0.5 (lab eq. 9).
+    ball, floor = Sphere((0, 0.5, 0), 1), Plane((0, 0, 0), (0, 1, 0))
+    assert ball.intersects(floor) and ball.distance(floor) == -0.5
+    found = ball.contact(floor)
+    assert found is not None and found.normal == Vector3D(0, -1, 0) and found.depth == 0.5
+    assert Circle((0, 0), 1).contact(Circle((3, 0), 1)) is None  # 3 - 2 = 1 apart
+
+
+def test_shapes_accept_numpy_scalars_and_arrays() -> None:
+    assert Sphere(np.array([1, 2, 3]), np.array(1.0)) == Sphere((1, 2, 3), 1)
+    assert Circle(np.array([0.5, 0.0]), np.float32(2)) == Circle((0.5, 0), 2)
+    assert AABB.from_center_size(np.zeros(2), np.array([2, 2])) == AABB((-1, -1), (1, 1))
+    assert Plane(np.zeros(3), np.array([0, 0, 2])).unit_normal == Vector3D(0, 0, 1)
+    with pytest.raises(InvalidInputError, match="radius: must be > 0"):
+        Sphere((0, 0, 0), np.array(-1.0))

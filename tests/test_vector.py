@@ -201,3 +201,109 @@ def test_projection_works_for_very_short_and_very_long_axes(scale):
 def test_vector_times_vector_is_a_type_error():
     with pytest.raises(TypeError):
         Vector3D(1, 2) * Vector3D(3, 4)  # ambiguous: dot or cross
+
+
+# --- numpy and Python protocols (issue 13) ------------------------------------------------------
+def test_asarray_is_a_float64_array_of_three() -> None:
+    array = np.asarray(Vector3D(1, 2))
+    assert array.dtype == np.float64 and array.shape == (3,)
+    assert array.tolist() == [1.0, 2.0, 0.0]
+    assert np.asarray(Vector3D(1, 2, 3), dtype=np.float32).dtype == np.float32
+    assert np.array([Vector3D(1, 2), Vector3D(3, 4, 5)]).shape == (2, 3)  # a stack of vectors
+    assert np.linalg.norm(Vector3D(3, 4)) == 5.0
+
+
+def test_asarray_never_claims_to_share_memory() -> None:
+    # numpy 2's protocol: copy=False must raise when a copy is unavoidable (it always is here).
+    with pytest.raises(ValueError, match="always copies"):
+        np.asarray(Vector3D(1, 2, 3), copy=False)
+    first = np.asarray(Vector3D(1, 2, 3))
+    first[0] = 9.0
+    assert np.asarray(Vector3D(1, 2, 3))[0] == 1.0
+
+
+@pytest.mark.parametrize(
+    "source",
+    [[1, 2, 3], (1, 2, 3), np.array([1, 2, 3]), np.array([1.0, 2.0, 3.0], dtype=np.float32), Vector3D(1, 2, 3)],
+    ids=["list", "tuple", "int-array", "float32-array", "vector"],
+)
+def test_one_argument_builds_from_any_3_sequence_or_array(source: object) -> None:
+    v = Vector3D(source)  # type: ignore[arg-type]
+    assert v == Vector3D(1.0, 2.0, 3.0) and all(type(c) is float for c in v)
+
+
+def test_one_argument_builds_from_a_2_sequence_with_z_zero() -> None:
+    assert Vector3D([4, 5]) == Vector3D(np.array([4, 5])) == Vector3D(4.0, 5.0, 0.0)
+
+
+@pytest.mark.parametrize(
+    ("bad", "field"),
+    [(5, "y"), (np.array(5.0), "y"), ([1, 2, 3, 4], "vector"), (np.zeros((3, 1)), "vector[0]"), ("xyz", "vector"),
+     ([1, float("nan")], "vector[1]")],
+    ids=["number", "0-d array", "four", "column", "string", "nan"],
+)  # fmt: skip
+def test_one_bad_argument_is_refused_naming_the_field(bad: object, field: str) -> None:
+    with pytest.raises(InvalidInputError) as error:
+        Vector3D(bad)  # type: ignore[arg-type]
+    assert error.value.field == field
+
+
+def test_numpy_scalars_are_components() -> None:
+    v = Vector3D(np.float32(0.5), np.int64(2), np.float64(3.25))
+    assert v.as_tuple() == (0.5, 2.0, 3.25) and all(type(c) is float for c in v)
+    with pytest.raises(InvalidInputError, match="x: must be a number"):
+        Vector3D(np.bool_(True), 0)
+
+
+def test_indexing_unpacking_and_abs() -> None:
+    v = Vector3D(3, 4, 12)
+    x, y, z = v
+    assert (x, y, z) == (3.0, 4.0, 12.0)
+    assert (v[0], v[1], v[2], v[-1]) == (3.0, 4.0, 12.0, 12.0)
+    assert v[:2] == (3.0, 4.0)
+    assert abs(v) == 13.0  # 3-4-5 then 5-12-13
+    with pytest.raises(IndexError):
+        v[3]
+
+
+def test_numpy_operands_give_vectors() -> None:
+    v = Vector3D(1, 2, 3)
+    assert np.float64(2) * v == v * np.float32(2) == Vector3D(2, 4, 6)
+    assert np.array([1, 1, 1]) + v == v + np.array([1, 1, 1]) == Vector3D(2, 3, 4)
+    assert np.array([1, 1]) - v == Vector3D(0, -1, -3)
+
+
+@pytest.mark.parametrize(
+    ("spec", "expected"),
+    [(".2f", "(1.00, -2.50, 0.00)"), (".1e", "(1.0e+00, -2.5e+00, 0.0e+00)"), ("+.0f", "(+1, -2, +0)"),
+     ("8.3f", "(   1.000,   -2.500,    0.000)")],
+)  # fmt: skip
+def test_format_specs_apply_to_each_component(spec: str, expected: str) -> None:
+    assert format(Vector3D(1, -2.5, 0), spec) == expected
+
+
+def test_no_signed_zero_is_ever_printed() -> None:
+    v = Vector3D(-0.0, 1, -0.0)
+    assert math.copysign(1.0, v.x) == 1.0 and math.copysign(1.0, v.z) == 1.0  # stored as +0.0
+    assert "-0" not in repr(v) and "-0" not in str(v)
+    assert "-" not in f"{Vector3D(-1e-12, -4e-7, 0):.3f}"  # rounds to zero: no minus sign
+    assert repr(-Vector3D(0, 0, 0)) == "Vector3D(x=0.0, y=0.0, z=0.0)"
+    assert f"{Vector3D(-1e-12, 0):.1e}" == "(-1.0e-12, 0.0e+00, 0.0e+00)"  # a real negative keeps its sign
+
+
+def test_isclose_is_relative_to_the_longer_vector() -> None:
+    assert Vector3D(0.1 + 0.2, 0) != Vector3D(0.3, 0)  # 0.30000000000000004: one ulp apart
+    assert Vector3D(0.1 + 0.2, 0).isclose(Vector3D(0.3, 0)) and Vector3D(0.1 + 0.2, 0).isclose((0.3, 0))
+    # |a - b| = 1e-6 against |a| = 1: close at rel_tol 1e-5, not at the default 1e-9.
+    a, b = Vector3D(1, 0), Vector3D(1, 1e-6)
+    assert not a.isclose(b) and a.isclose(b, rel_tol=1e-5)
+    # Near zero only abs_tol can make two vectors close.
+    assert not Vector3D(0, 0).isclose((1e-12, 0)) and Vector3D(0, 0).isclose((1e-12, 0), abs_tol=1e-9)
+    with pytest.raises(InvalidInputError, match="rel_tol: must be >= 0"):
+        a.isclose(b, rel_tol=-1)
+
+
+@given(vectors(), vectors())
+def test_isclose_is_symmetric_and_reflexive(u: Vector3D, v: Vector3D) -> None:
+    assert u.isclose(u)
+    assert u.isclose(v) == v.isclose(u)

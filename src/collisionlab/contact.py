@@ -20,7 +20,7 @@ class Contact:
 
     >>> c = Contact(Vector3D(1, 0, 0), 0.5, Vector3D(2, 0, 0))
     >>> c.flipped()
-    Contact(normal=Vector3D(x=-1.0, y=-0.0, z=-0.0), depth=0.5, point=Vector3D(x=2.0, y=0.0, z=0.0))
+    Contact(normal=Vector3D(x=-1.0, y=0.0, z=0.0), depth=0.5, point=Vector3D(x=2.0, y=0.0, z=0.0))
     """
 
     normal: Vector3D

@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import tomllib
 from importlib import resources
+from pathlib import Path
 
 from .errors import InvalidInputError
 from .model import Scenario
 from .scenario_file import parse_scenario
 
-__all__ = ["LAB_DEMOS", "demo_names", "demo_text", "load_demo"]
+__all__ = ["LAB_DEMOS", "builtin_scenario_path", "copy_examples", "demo_names", "demo_text", "load_demo"]
 
 #: The lab's four cases, in the lab's order: 1 AABB in 3D, 2 sphere and sphere,
 #: 3 circle and line, 4 sphere and plane.
@@ -47,3 +48,40 @@ def load_demo(name: str) -> Scenario:
     Vector3D(x=0.0, y=1.0, z=0.0)
     """
     return parse_scenario(tomllib.loads(demo_text(name)), f"examples/{name}.toml")
+
+
+def builtin_scenario_path(text: str) -> Path | None:
+    """The shipped file of a built-in scenario named by ``text``: its name (``head-on``), its
+    file name (``head-on.toml``) or its path in the repository (``examples/head-on.toml``);
+    ``None`` when ``text`` names no built-in scenario. The caller prefers a real file.
+
+    >>> builtin_scenario_path("examples/head-on.toml").name, builtin_scenario_path("nothing")
+    ('head-on.toml', None)
+    """
+    path = Path(text)
+    if path.parent not in (Path(), Path("examples")) or path.suffix not in ("", ".toml"):
+        return None
+    name = path.name.removesuffix(".toml")
+    if name not in demo_names():
+        return None
+    return Path(str(_folder() / f"{name}.toml"))
+
+
+def copy_examples(folder: str | Path) -> list[Path]:
+    """Write every built-in scenario file into ``folder`` (created if missing), to read and
+    edit; an existing file is never overwritten (``InvalidInputError`` naming it, nothing
+    written). Each file is written whole or not at all. Returns the paths written."""
+    from .atomic import write_text_atomically
+
+    target = Path(folder)
+    if target.exists() and not target.is_dir():
+        raise InvalidInputError("--copy", "must be a folder", got=str(target))
+    paths = [target / f"{name}.toml" for name in demo_names()]
+    clashes = [str(p) for p in paths if p.exists()]
+    if clashes:
+        more = f" (and {len(clashes) - 1} more)" if len(clashes) > 1 else ""
+        raise InvalidInputError("--copy", f"would overwrite {clashes[0]}{more}; choose an empty or new folder")
+    target.mkdir(parents=True, exist_ok=True)
+    for name, path in zip(demo_names(), paths, strict=True):
+        write_text_atomically(path, lambda name=name: demo_text(name))  # type: ignore[misc]
+    return paths

@@ -142,7 +142,7 @@ def separation_plane_sphere(a: Plane, b: Sphere) -> Separation:
 
     >>> s = separation_plane_sphere(Plane((0, 0, 0), (0, 1, 0)), Sphere((1, -0.5, 2), 1))
     >>> s.distance, s.normal, s.point   # centre 0.5 below the plane: overlap 0.5, pushed down
-    (-0.5, Vector3D(x=-0.0, y=-1.0, z=-0.0), Vector3D(x=1.0, y=0.25, z=2.0))
+    (-0.5, Vector3D(x=0.0, y=-1.0, z=0.0), Vector3D(x=1.0, y=0.25, z=2.0))
     """
     return _boundary_ball(a.point, a.unit_normal, b.center, b.radius)
 
@@ -212,7 +212,7 @@ def separation(a: Shape, b: Shape) -> Separation:
     """The :class:`Separation` of any supported pair, in either order.
 
     >>> separation(Sphere((0, 0, 3), 1), Plane((0, 0, 0), (0, 0, 1))).normal  # from sphere to plane
-    Vector3D(x=-0.0, y=-0.0, z=-1.0)
+    Vector3D(x=0.0, y=0.0, z=-1.0)
     >>> separation(Circle((0, 0), 1), Sphere((0, 0, 0), 1))
     Traceback (most recent call last):
     ...

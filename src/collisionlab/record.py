@@ -6,15 +6,25 @@ One record feeds every output (table, CSV, JSON, plots), so nothing is simulated
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from .vector import Vector3D
+
+if TYPE_CHECKING:
+    import pandas
+    from matplotlib.figure import Figure
+
+    from .model import Scenario
 
 __all__ = ["BodyState", "CollisionEvent", "Frame", "Ledger", "RunRecord", "SkippedContact"]
 
 
 def _vec(v: Vector3D) -> list[float]:
     return [v.x, v.y, v.z]
+
+
+def _count(n: int, singular: str, plural: str | None = None) -> str:
+    return f"{n:,} {singular if n == 1 else plural or singular + 's'}"
 
 
 @dataclass(frozen=True)
@@ -40,7 +50,8 @@ class CollisionEvent:
     ``normal`` points from ``bodies[0]`` to ``bodies[1]``; ``approach_speed`` is
     ``v_n = (v_b - v_a) . n`` before (negative when approaching); ``impulse`` is
     ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``. ``restitution`` is the e applied: 0 when the
-    approach was slower than the rest threshold. ``static`` says that ``bodies[0]`` is an
+    approach was slower than the rest threshold, and then ``below_rest_threshold`` is true
+    (``REST_SPEED`` in :mod:`collisionlab.tolerances`). ``static`` says that ``bodies[0]`` is an
     obstacle (infinite mass).
     """
 
@@ -162,6 +173,95 @@ class RunRecord:
     skipped: list[SkippedContact] = field(default_factory=list)
     ledger: Ledger = field(default_factory=Ledger)
     warnings: list[str] = field(default_factory=list)
+    #: The scenario that was run (its shapes and masses draw the plot); ``None`` when unknown.
+    scenario: Scenario | None = field(default=None, repr=False, compare=False)
+
+    def __repr__(self) -> str:
+        """Counts, not contents (a long run holds thousands of frames)."""
+        bodies = len(self.frames[0].bodies) if self.frames else 0
+        return (
+            f"<RunRecord {self.title!r}: {self.dims}D, mode {self.mode}, {self.steps} steps of {self.dt:g} s, "
+            f"{_count(bodies, 'body', 'bodies')}, {_count(len(self.frames), 'frame')}, "
+            f"{_count(len(self.events), 'collision')}, {_count(len(self.skipped), 'skipped contact')}, "
+            f"{_count(len(self.warnings), 'warning')}>"
+        )
+
+    def to_dataframe(self, table: Literal["frames", "events", "skipped"] = "frames") -> pandas.DataFrame:
+        """A table of the run as a pandas ``DataFrame`` (pandas is optional: ``pip install pandas``).
+
+        ``"frames"``: one row per recorded step and body (long form; ``pivot`` gives one column
+        per body): ``step, time, body, x, y, z, vx, vy, vz``. ``"events"``: one row per
+        collision: ``step, time, body_a, body_b, static, normal_x..z, point_x..z,
+        approach_speed, impulse, restitution, below_rest_threshold, mass_a, mass_b,
+        kinetic_energy_before, kinetic_energy_after``. ``"skipped"``: ``step, time, body_a,
+        body_b, reason``.
+        """
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ImportError(
+                "RunRecord.to_dataframe needs pandas, which is not installed: pip install pandas"
+            ) from None
+        if table == "frames":
+            columns = ["step", "time", "body", "x", "y", "z", "vx", "vy", "vz"]
+            rows: list[tuple[Any, ...]] = [
+                (f.step, f.time, b.name, *b.position.as_tuple(), *b.velocity.as_tuple())
+                for f in self.frames
+                for b in f.bodies
+            ]
+        elif table == "events":
+            columns = [
+                "step", "time", "body_a", "body_b", "static", "normal_x", "normal_y", "normal_z",
+                "point_x", "point_y", "point_z", "approach_speed", "impulse", "restitution",
+                "below_rest_threshold", "mass_a", "mass_b", "kinetic_energy_before", "kinetic_energy_after",
+            ]  # fmt: skip
+            rows = [
+                (
+                    e.step,
+                    e.time,
+                    *e.bodies,
+                    e.static,
+                    *e.normal.as_tuple(),
+                    *e.point.as_tuple(),
+                    e.approach_speed,
+                    e.impulse,
+                    e.restitution,
+                    e.below_rest_threshold,
+                    *e.masses,
+                    e.kinetic_energy_before,
+                    e.kinetic_energy_after,
+                )
+                for e in self.events
+            ]
+        elif table == "skipped":
+            columns = ["step", "time", "body_a", "body_b", "reason"]
+            rows = [(s.step, s.time, *s.bodies, s.reason) for s in self.skipped]
+        else:
+            from .errors import InvalidInputError
+
+            raise InvalidInputError("table", "must be one of frames, events, skipped", got=table)
+        return pd.DataFrame.from_records(rows, columns=columns)
+
+    def plot(self, scenario: Scenario | None = None, size: tuple[int, int] = (1400, 800)) -> Figure:
+        """The picture of ``--plot`` (trajectories, energy, momentum) as a matplotlib ``Figure``;
+        ``scenario`` defaults to the one that was run."""
+        from .errors import InvalidInputError
+        from .plotting.static import draw_figure
+
+        scenario = scenario or self.scenario
+        if scenario is None:
+            raise InvalidInputError("scenario", "this record does not know its scenario; pass plot(scenario)")
+        return draw_figure(self, scenario, size)
+
+    def _repr_png_(self) -> bytes | None:
+        """Jupyter shows a record as its plot (when the record knows its scenario)."""
+        if self.scenario is None or not self.frames:
+            return None
+        import io
+
+        buffer = io.BytesIO()
+        self.plot(size=(1100, 620)).savefig(buffer, format="png")
+        return buffer.getvalue()
 
     def summary(self) -> dict[str, Any]:
         return {

@@ -2,20 +2,72 @@
 
 Moving shapes are :class:`Circle` (2D, in the x-y plane), :class:`Sphere` and :class:`AABB`
 (2D or 3D); boundaries are :class:`Line` (2D, infinite) and :class:`Plane` (infinite). Every
-constructor accepts a :class:`~collisionlab.vector.Vector3D` or a list of 2 or 3 numbers where a
-vector is expected, and raises :class:`~collisionlab.errors.InvalidInputError` naming the field.
+constructor accepts a :class:`~collisionlab.vector.Vector3D` or a list or numpy array of 2 or 3
+numbers where a vector is expected, and numpy scalars (or 0-d arrays) where a number is; it
+raises :class:`~collisionlab.errors.InvalidInputError` naming the field. Every shape has the
+queries as methods: ``a.intersects(b)``, ``a.contact(b)``, ``a.distance(b)``.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, cast
 
 from .errors import InvalidInputError
 from .tolerances import COLLINEAR_SINE
 from .validate import positive
 from .vector import Vector3D, VectorLike, as_vector
 
+if TYPE_CHECKING:
+    from .contact import Contact
+
 __all__ = ["AABB", "Circle", "Line", "Plane", "Shape", "Sphere"]
+
+
+class _Queries:
+    """The collision queries as methods: each delegates to the free function of the same name
+    in :mod:`collisionlab.narrowphase`, so ``a.contact(b) == contact(a, b)``, and a pair with no
+    query raises the same :class:`~collisionlab.errors.UnsupportedPairError`."""
+
+    __slots__ = ()
+
+    def intersects(self, other: Shape) -> bool:
+        """Whether this shape and ``other`` touch or overlap (:func:`~collisionlab.narrowphase.intersects`).
+
+        >>> Sphere((0, 0.5, 0), 1).intersects(Plane((0, 0, 0), (0, 1, 0)))
+        True
+        """
+        from . import narrowphase  # narrowphase imports the shapes
+
+        return narrowphase.intersects(cast("Shape", self), other)
+
+    def contact(self, other: Shape) -> Contact | None:
+        """The contact with ``other``, normal from this shape to ``other``, or ``None``
+        (:func:`~collisionlab.narrowphase.contact`).
+
+        >>> Circle((0, 0), 1).contact(Circle((1.5, 0), 1)).depth
+        0.5
+        """
+        from . import narrowphase
+
+        return narrowphase.contact(cast("Shape", self), other)
+
+    def distance(self, other: Shape) -> float:
+        """Signed distance to ``other``: the gap, or minus the depth when overlapping
+        (:func:`~collisionlab.narrowphase.distance`).
+
+        >>> AABB((0, 0), (1, 1)).distance(Circle((3, 0.5), 1))
+        1.0
+        >>> Circle((0, 0), 1).distance(Sphere((0, 0, 0), 1))
+        Traceback (most recent call last):
+        ...
+        collisionlab.errors.UnsupportedPairError: no collision query for Circle and Sphere; supported pairs: \
+Circle-Circle, Sphere-Sphere, AABB-AABB, Line-Circle, Plane-Sphere, Circle-AABB, Sphere-AABB, \
+Line-AABB, Plane-AABB (either order)
+        """
+        from . import narrowphase
+
+        return narrowphase.distance(cast("Shape", self), other)
 
 
 def _vector(owner: object, name: str, value: object) -> Vector3D:
@@ -30,7 +82,7 @@ def _require_planar(value: Vector3D, field: str) -> None:
 
 
 @dataclass(frozen=True, slots=True)
-class Circle:
+class Circle(_Queries):
     """A circle in the x-y plane (``center.z`` must be 0).
 
     >>> Circle((1, 2), 0.5)
@@ -53,7 +105,7 @@ class Circle:
 
 
 @dataclass(frozen=True, slots=True)
-class Sphere:
+class Sphere(_Queries):
     """A sphere.
 
     >>> Sphere((0, 0, 1), 2).radius
@@ -72,7 +124,7 @@ class Sphere:
 
 
 @dataclass(frozen=True, slots=True)
-class AABB:
+class AABB(_Queries):
     """An axis-aligned box given by two opposite corners (lab eqs. 4 and 5).
 
     The box is 2D when both corners have ``z == 0`` (a box with no extent in z at z = 0, which is
@@ -142,14 +194,14 @@ class AABB:
 
 
 @dataclass(frozen=True, slots=True)
-class Line:
+class Line(_Queries):
     """An infinite line in the x-y plane through ``point`` along ``direction`` (lab part IV.A).
 
     ``direction`` is kept as given (any non-zero length); ``unit_direction`` and ``unit_normal``
     (the direction turned +90 degrees about z) are derived.
 
     >>> Line((0, 0), (2, 0)).unit_normal
-    Vector3D(x=-0.0, y=1.0, z=0.0)
+    Vector3D(x=0.0, y=1.0, z=0.0)
     >>> Line((0, 0), (0, 0))
     Traceback (most recent call last):
     ...
@@ -176,7 +228,7 @@ class Line:
 
 
 @dataclass(frozen=True, slots=True)
-class Plane:
+class Plane(_Queries):
     """An infinite plane through ``point`` with normal ``normal`` (lab part IV.B).
 
     >>> Plane.from_points((0, 0, 0), (1, 0, 0), (0, 0, 1)).unit_normal

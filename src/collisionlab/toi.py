@@ -104,7 +104,7 @@ class Impact:
     shapes are apart at ``t = 0`` by a rounding error of the interval arithmetic and approaching.
 
     >>> Impact(0.5, Vector3D(0, 1, 0), False).flipped()
-    Impact(time=0.5, normal=Vector3D(x=-0.0, y=-1.0, z=-0.0), initially_overlapping=False)
+    Impact(time=0.5, normal=Vector3D(x=0.0, y=-1.0, z=0.0), initially_overlapping=False)
     """
 
     time: float
@@ -529,7 +529,7 @@ def time_of_impact_line_circle(
 
     >>> impact = time_of_impact_line_circle(Line((0, 0), (1, 0)), Circle((0, 5), 1), (3, -2), (0, 0), 10)
     >>> impact.time, impact.normal   # s0 = 5, n.v = -2: 5 - 2t = 1 at t = 2
-    (2.0, Vector3D(x=-0.0, y=1.0, z=0.0))
+    (2.0, Vector3D(x=0.0, y=1.0, z=0.0))
     """
     v, g, t = _checked(relative_velocity, relative_acceleration, max_time, planar=True)
     start = separation_line_circle(a, b)
@@ -659,7 +659,7 @@ def time_of_impact(
     >>> time_of_impact(Sphere((0, 0, 10), 1), Plane((0, 0, 0), (0, 0, 1)), (0, 0, -1e6), (0, 0, 0), 1).time
     9e-06
     >>> time_of_impact(Sphere((0, 0, 1), 1), Plane((0, 0, 0), (0, 0, 1)), (0, 0, 0), (0, 0, 0), 1)
-    Impact(time=0.0, normal=Vector3D(x=-0.0, y=-0.0, z=-1.0), initially_overlapping=True)
+    Impact(time=0.0, normal=Vector3D(x=0.0, y=0.0, z=-1.0), initially_overlapping=True)
     >>> time_of_impact(Circle((0, 0), 1), Sphere((0, 0, 0), 1), (0, 0), (0, 0), 1)
     Traceback (most recent call last):
     ...

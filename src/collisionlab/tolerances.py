@@ -12,6 +12,7 @@ __all__ = [
     "CONTACT_MARGIN",
     "CONTACT_SLOP",
     "FALLBACK_NORMAL",
+    "ISCLOSE_REL_TOL",
     "PICTURE_MIN_SPAN",
     "REST_SPEED",
     "SOLVER_MARGIN",
@@ -26,6 +27,12 @@ COLLINEAR_SINE: float = 1e-12
 #: The unit axis used as contact normal when the two features coincide (coincident centres,
 #: a centre exactly on a line): ``(1, 0, 0)``, pointing from shape A to shape B.
 FALLBACK_NORMAL: tuple[float, float, float] = (1.0, 0.0, 0.0)
+
+#: Dimensionless. The default relative tolerance of ``Vector3D.isclose``: two vectors are close
+#: when they differ by at most this fraction of the longer one's length. The same default as
+#: :func:`math.isclose`: about 4500 ulp, above the rounding of a few operations, far below any
+#: difference a person means.
+ISCLOSE_REL_TOL: float = 1e-9
 
 #: Metres. After a collision is resolved, overlapping bodies are pushed apart until they are
 #: separated by this gap, so the same pair is not detected again on the next step (no double

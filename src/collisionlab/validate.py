@@ -8,22 +8,38 @@ from __future__ import annotations
 import math
 import numbers
 
+import numpy as np
+
 from .errors import InvalidInputError
 
 __all__ = ["finite_number", "non_negative", "positive", "positive_or_inf", "whole_number"]
 
 
+def _scalar(value: object) -> object:
+    """A numpy 0-d array of a real number as a Python number; anything else unchanged."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        return value.item()
+    return value
+
+
 def finite_number(value: object, field: str) -> float:
-    """A real, finite number as a float.
+    """A real, finite number as a float (numpy scalars and 0-d arrays included).
 
     >>> finite_number(2, "dt")
     2.0
+    >>> finite_number(np.array(0.5), "radius"), finite_number(np.float32(0.5), "radius")
+    (0.5, 0.5)
+    >>> finite_number(True, "dt")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: dt: must be a number (got True)
     >>> finite_number(float("nan"), "dt")
     Traceback (most recent call last):
     ...
     collisionlab.errors.InvalidInputError: dt: must be a finite number (got nan)
     """
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    value = _scalar(value)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise InvalidInputError(field, "must be a number", got=value)
     number = float(value)
     if not math.isfinite(number):
@@ -49,6 +65,7 @@ def non_negative(value: object, field: str) -> float:
 
 def positive_or_inf(value: object, field: str) -> float:
     """A number > 0, where ``math.inf`` is allowed (a static body's mass)."""
+    value = _scalar(value)
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == math.inf:
         return math.inf
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and not float(value) > 0.0:
@@ -58,6 +75,7 @@ def positive_or_inf(value: object, field: str) -> float:
 
 def whole_number(value: object, field: str, minimum: int = 1) -> int:
     """An integer >= ``minimum`` (floats with no fractional part are accepted)."""
+    value = _scalar(value)
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
     number = float(value)

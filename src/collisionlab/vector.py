@@ -1,23 +1,34 @@
 """``Vector3D``: an immutable 3-vector with the projections of the lab's part I.
 
 2D work uses ``z = 0``. Every component is a finite float: NaN and inf are refused at
-construction, so they cannot enter any shape or any simulation state.
+construction, so they cannot enter any shape or any simulation state. A component is never
+``-0.0`` (it is stored as ``0.0``), so no output prints a signed zero.
+
+A vector is a good numpy citizen: ``np.asarray(v)`` is a float64 array of shape ``(3,)``, and a
+vector is built from any sequence or array of 2 or 3 numbers (numpy scalars included).
 """
 
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from math import isfinite
+from typing import Any, overload
+
+import numpy as np
+from numpy.typing import NDArray
 
 from .errors import InvalidInputError
+from .textformat import format_float
+from .tolerances import ISCLOSE_REL_TOL
 from .validate import finite_number
 
 __all__ = ["Vector3D", "VectorLike", "as_vector"]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, init=False, repr=False)
 class Vector3D:
     """An immutable vector ``(x, y, z)`` of finite floats.
 
@@ -36,20 +47,86 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
 
     >>> Vector3D(1, 2) + (1, 1), (3, 3) - Vector3D(1, 2), Vector3D(1, 2).dot((3, 4))
     (Vector3D(x=2.0, y=3.0, z=0.0), Vector3D(x=2.0, y=1.0, z=0.0), 11.0)
+
+    One argument builds a vector from a sequence or an array; a vector indexes, unpacks,
+    formats and converts to numpy:
+
+    >>> import numpy as np
+    >>> v = Vector3D(np.array([3.0, 4.0]))
+    >>> v, v[1], abs(v), f"{v:.2f}"
+    (Vector3D(x=3.0, y=4.0, z=0.0), 4.0, 5.0, '(3.00, 4.00, 0.00)')
+    >>> x, y, z = v
+    >>> np.asarray(v)
+    array([3., 4., 0.])
+    >>> Vector3D(0.1 + 0.2, 0) == Vector3D(0.3, 0), Vector3D(0.1 + 0.2, 0).isclose((0.3, 0))
+    (False, True)
+    >>> Vector3D(0, -0.0), f"{Vector3D(-1e-9, 2):.3f}"     # no signed zeros in output
+    (Vector3D(x=0.0, y=0.0, z=0.0), '(0.000, 2.000, 0.000)')
     """
 
     x: float
     y: float
-    z: float = 0.0
+    z: float
 
-    def __post_init__(self) -> None:
-        x, y, z = self.x, self.y, self.z
-        # Fast path for the common case (floats from arithmetic); the checks below are the rule.
-        if type(x) is float and type(y) is float and type(z) is float and isfinite(x) and isfinite(y) and isfinite(z):
-            return
-        object.__setattr__(self, "x", finite_number(self.x, "x"))
-        object.__setattr__(self, "y", finite_number(self.y, "y"))
-        object.__setattr__(self, "z", finite_number(self.z, "z"))
+    # numpy defers to our operators (``np.float64(2) * v`` and ``array + v`` give a Vector3D);
+    # ufuncs need an explicit ``np.asarray(v)``.
+    __array_ufunc__ = None
+
+    def __init__(self, x: float | VectorLike | NDArray[Any], y: float | None = None, z: float = 0.0) -> None:
+        if y is None:
+            if isinstance(x, numbers.Real) or (isinstance(x, np.ndarray) and x.ndim == 0):
+                raise InvalidInputError("y", "is missing: give Vector3D(x, y[, z]) or one list of 2 or 3 numbers")
+            x, y, z = as_vector_components(x, "vector")
+        # Fast path for the common case (floats from arithmetic); the checks are the rule.
+        elif not (
+            type(x) is float and type(y) is float and type(z) is float and isfinite(x) and isfinite(y) and isfinite(z)
+        ):
+            x = finite_number(x, "x")
+            y = finite_number(y, "y")
+            z = finite_number(z, "z")
+        # ``+ 0.0`` turns -0.0 into 0.0 and changes nothing else.
+        object.__setattr__(self, "x", x + 0.0)
+        object.__setattr__(self, "y", y + 0.0)
+        object.__setattr__(self, "z", z + 0.0)
+
+    def __repr__(self) -> str:
+        return f"Vector3D(x={self.x!r}, y={self.y!r}, z={self.z!r})"
+
+    def __format__(self, spec: str) -> str:
+        """Each component formatted with ``spec`` (a float format such as ``.3f``), in
+        parentheses; a component that rounds to zero never shows as ``-0``.
+
+        >>> format(Vector3D(1, -0.00001, 2.5), ".2f")
+        '(1.00, 0.00, 2.50)'
+        """
+        if not spec:
+            return repr(self)
+        return "(" + ", ".join(format_float(c, spec) for c in (self.x, self.y, self.z)) + ")"
+
+    def isclose(self, other: VectorLike, rel_tol: float = ISCLOSE_REL_TOL, abs_tol: float = 0.0) -> bool:
+        """Whether ``|self - other| <= max(rel_tol * max(|self|, |other|), abs_tol)``: the rule of
+        :func:`math.isclose` applied to the vectors' lengths, so it does not depend on the axes.
+
+        >>> Vector3D(1, 1e-12).isclose((1, 0)), Vector3D(0, 1e-12).isclose((0, 0))
+        (True, False)
+        >>> Vector3D(0, 1e-12).isclose((0, 0), abs_tol=1e-9)
+        True
+        """
+        o = as_vector(other, "other")
+        rel = finite_number(rel_tol, "rel_tol")
+        tol = finite_number(abs_tol, "abs_tol")
+        if rel < 0.0 or tol < 0.0:
+            raise InvalidInputError("rel_tol" if rel < 0.0 else "abs_tol", "must be >= 0", got=min(rel, tol))
+        gap = math.hypot(self.x - o.x, self.y - o.y, self.z - o.z)
+        scale = max(math.hypot(self.x, self.y, self.z), math.hypot(o.x, o.y, o.z))
+        return gap <= max(rel * scale, tol)
+
+    def __array__(self, dtype: Any = None, copy: bool | None = None) -> NDArray[Any]:
+        """numpy's array protocol (numpy 2 signature): a new float64 array of shape ``(3,)``.
+        ``copy=False`` is refused, as numpy asks, since the array is always a new one."""
+        if copy is False:
+            raise ValueError("a Vector3D is not backed by an array: converting it always copies")
+        return np.array((self.x, self.y, self.z), dtype=np.float64 if dtype is None else dtype)
 
     # --- container protocol -------------------------------------------------------------
     def __iter__(self) -> Iterator[float]:
@@ -59,6 +136,17 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
 
     def __len__(self) -> int:
         return 3
+
+    @overload
+    def __getitem__(self, index: int) -> float: ...
+    @overload
+    def __getitem__(self, index: slice) -> tuple[float, ...]: ...
+    def __getitem__(self, index: int | slice) -> float | tuple[float, ...]:
+        return (self.x, self.y, self.z)[index]
+
+    def __abs__(self) -> float:
+        """The length, ``|v|``."""
+        return self.length()
 
     def as_tuple(self) -> tuple[float, float, float]:
         return (self.x, self.y, self.z)
@@ -85,7 +173,7 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         return Vector3D(o.x - self.x, o.y - self.y, o.z - self.z)
 
     def __mul__(self, scalar: float) -> Vector3D:
-        if not isinstance(scalar, (int, float)):
+        if not isinstance(scalar, numbers.Real):
             return NotImplemented  # Vector3D * Vector3D is ambiguous: use dot or cross
         return Vector3D(self.x * scalar, self.y * scalar, self.z * scalar)
 
@@ -208,7 +296,7 @@ VectorLike = Vector3D | Sequence[float]
 
 
 def as_vector(value: object, field: str) -> Vector3D:
-    """A :class:`Vector3D` from a ``Vector3D`` or a sequence of 2 or 3 finite numbers.
+    """A :class:`Vector3D` from a ``Vector3D`` or a sequence (or array) of 2 or 3 finite numbers.
 
     >>> as_vector((1, 2), "velocity")
     Vector3D(x=1.0, y=2.0, z=0.0)
@@ -220,16 +308,23 @@ like [x, y] or [x, y, z] (got (1, 2, 3, 4))
     """
     if isinstance(value, Vector3D):
         return value
+    return Vector3D(*as_vector_components(value, field))
+
+
+def as_vector_components(value: object, field: str) -> tuple[float, float, float]:
+    """The three finite components of a sequence or array of 2 or 3 numbers (z = 0 for 2)."""
+    if isinstance(value, Vector3D):
+        return (value.x, value.y, value.z)
+    if isinstance(value, np.ndarray):
+        value = value.tolist()  # plain floats (nested lists for a 2-D array, refused below)
+    elif not isinstance(value, (str, bytes, Sequence)) and hasattr(value, "__len__") and hasattr(value, "__getitem__"):
+        value = list(value)  # type: ignore[call-overload]  # other array-likes
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
-        if hasattr(value, "__len__") and hasattr(value, "__getitem__") and not isinstance(value, (str, bytes)):
-            value = list(value)  # type: ignore[call-overload]  # numpy arrays and similar
-        else:
-            raise InvalidInputError(field, "must be a list of 2 or 3 numbers, like [x, y, z]", got=value)
-    assert isinstance(value, Sequence)
+        raise InvalidInputError(field, "must be a list of 2 or 3 numbers, like [x, y, z]", got=value)
     if len(value) not in (2, 3):
         raise InvalidInputError(field, "must have 2 or 3 components, like [x, y] or [x, y, z]", got=value)
     components = [finite_number(c, f"{field}[{i}]") for i, c in enumerate(value)]
-    return Vector3D(*components)
+    return (components[0], components[1], components[2] if len(components) == 3 else 0.0)
 
 
 def _operand(value: object) -> Vector3D | None:

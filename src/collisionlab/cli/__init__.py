@@ -14,7 +14,7 @@ from .. import __version__
 from ..errors import CollisionLabError, InvalidInputError
 from ..scenario_file import ScenarioError
 from ..world import InitialOverlapError
-from . import gas_command
+from . import examples_command, gas_command
 from .menu import run_menu
 from .run_command import add_run_parsers
 from .streams import Streams
@@ -67,6 +67,7 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     menu.set_defaults(func=lambda args, streams: run_menu(streams))
     add_run_parsers(sub)
     gas_command.add_parser(sub)
+    examples_command.add_parser(sub)
     return parser
 
 

@@ -7,8 +7,10 @@ import csv
 import io
 import json
 import math
+from typing import Any
 
 from ..record import CollisionEvent, Frame, RunRecord, SkippedContact
+from ..textformat import format_float as _f
 from ..vector import Vector3D
 
 __all__ = ["render", "render_csv", "render_json", "render_table"]
@@ -17,11 +19,11 @@ _WIDTH = 11
 
 
 def _vec(v: Vector3D, dims: int = 3, digits: int = 3) -> str:
-    return "(" + ", ".join(f"{c:.{digits}f}" for c in v.as_tuple()[:dims]) + ")"
+    return "(" + ", ".join(_f(c, f".{digits}f") for c in v.as_tuple()[:dims]) + ")"
 
 
 def _number(x: float) -> str:
-    return "inf" if math.isinf(x) else f"{x:.4g}"
+    return "inf" if math.isinf(x) else _f(x, ".4g")
 
 
 def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
@@ -33,16 +35,17 @@ def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
     if explain:
         m_a, m_b = event.masses
         inv_a = "0" if math.isinf(m_a) else f"1/{_number(m_a)}"
+        v_n = _f(event.approach_speed, ".4f")
         lines += [
             f"    normal n = {_vec(event.normal, dims)} (from {a} to {b}), contact point {_vec(event.point, dims)}",
-            f"    v_n = (v_{b} - v_{a}) . n = {event.approach_speed:.4f} m/s (negative: approaching)",
+            f"    v_n = (v_{b} - v_{a}) . n = {v_n} m/s (negative: approaching)",
             (
                 f"    e = {event.restitution:g}"
                 + (" (approach slower than the rest threshold: no bounce)" if event.below_rest_threshold else "")
             ),
             (
-                f"    j = -(1 + e) v_n / (1/m_{a} + 1/m_{b}) = -(1 + {event.restitution:g})({event.approach_speed:.4f})"
-                f" / ({inv_a} + 1/{_number(m_b)}) = {event.impulse:.4f} N s"
+                f"    j = -(1 + e) v_n / (1/m_{a} + 1/m_{b}) = -(1 + {event.restitution:g})({v_n})"
+                f" / ({inv_a} + 1/{_number(m_b)}) = {_f(event.impulse, '.4f')} N s"
             ),
         ]
         for name, before in event.velocities_before.items():
@@ -65,7 +68,7 @@ def _skip_line(skip: SkippedContact) -> str:
 def _row(frame: Frame, dims: int) -> str:
     cells = [f"{frame.step:>6}", f"{frame.time:>{_WIDTH}.4f}"]
     for body in frame.bodies:
-        cells += [f"{c:>{_WIDTH}.4f}" for c in body.position.as_tuple()[:dims]]
+        cells += [_f(c, f">{_WIDTH}.4f") for c in body.position.as_tuple()[:dims]]
     return " ".join(cells)
 
 
@@ -87,11 +90,15 @@ def summary_lines(record: RunRecord) -> list[str]:
         f"  kinetic energy  start {ledger.kinetic_start:.6g} J   end {ledger.kinetic_end:.6g} J",
     ]
     if record.gravity != Vector3D(0, 0, 0):
-        lines.append(f"  potential       start {ledger.potential_start:.6g} J   end {ledger.potential_end:.6g} J")
+        lines.append(
+            f"  potential       start {_f(ledger.potential_start, '.6g')} J   end {_f(ledger.potential_end, '.6g')} J"
+        )
+    change, theory = _f(ledger.energy_end - ledger.energy_start, "+.6g"), _f(ledger.collisions_predicted, "+.6g")
     lines.append(
-        f"  energy change {ledger.energy_end - ledger.energy_start:+.6g} J: collisions {ledger.collisions:+.6g} "
-        f"(theory (1-e^2)/2 mu v_n^2: {ledger.collisions_predicted:+.6g}), integrator {ledger.integrator:+.6g}, "
-        f"push-apart {ledger.push_apart:+.6g}, rounding {ledger.residual:+.2g}"
+        f"  energy change {change} J: collisions {_f(ledger.collisions, '+.6g')} "
+        f"(theory (1-e^2)/2 mu v_n^2: {theory}), "
+        f"integrator {_f(ledger.integrator, '+.6g')}, push-apart {_f(ledger.push_apart, '+.6g')}, "
+        f"rounding {_f(ledger.residual, '+.2g')}"
     )
     if ledger.max_penetration > 0.0:
         lines.append(f"  deepest overlap undone by push-apart: {ledger.max_penetration:.3g} m")
@@ -147,8 +154,20 @@ def render_csv(record: RunRecord, every: int = 1) -> str:
     return buffer.getvalue()
 
 
+def _no_signed_zero(value: Any) -> Any:
+    """``value`` with every ``-0.0`` inside it replaced by ``0.0`` (a signed zero reads as a
+    different number to a person and to some parsers)."""
+    if isinstance(value, float):
+        return value + 0.0
+    if isinstance(value, dict):
+        return {k: _no_signed_zero(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_no_signed_zero(v) for v in value]
+    return value
+
+
 def render_json(record: RunRecord, every: int = 1) -> str:
-    data = record.to_dict()
+    data = _no_signed_zero(record.to_dict())
     data["frames"] = [f for f in data["frames"] if f["step"] % every == 0 or f["step"] == record.steps]
     return json.dumps(data, indent=1) + "\n"
 

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from ..atomic import write_text_atomically
-from ..demos import LAB_DEMOS, demo_names, load_demo
+from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..record import RunRecord
@@ -73,8 +73,10 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
 
 
 def add_run_parsers(sub: Any) -> None:
-    run = sub.add_parser("run", help="run a scenario file (TOML)")
-    run.add_argument("file", metavar="FILE.toml", help="the scenario file")
+    run = sub.add_parser("run", help="run a scenario file (TOML) or a built-in scenario by name")
+    run.add_argument(
+        "file", metavar="FILE.toml", help="the scenario file, or the NAME of a built-in one (collisionlab examples)"
+    )
     _add_common(run)
     run.set_defaults(func=_run_file)
     demo = sub.add_parser(
@@ -89,7 +91,8 @@ def add_run_parsers(sub: Any) -> None:
 
 
 def _run_file(args: argparse.Namespace, streams: Streams) -> int:
-    return execute([load_scenario(args.file)], args, streams)
+    path = args.file if Path(args.file).exists() else builtin_scenario_path(args.file) or args.file
+    return execute([load_scenario(path)], args, streams)
 
 
 def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
@@ -98,19 +101,22 @@ def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
             streams.out(f"{name:<16}{load_demo(name).title}")
         return 0
     names = [args.name] if args.name else list(LAB_DEMOS)
-    return execute([load_demo(n) for n in names], args, streams)
+    return execute([load_demo(n) for n in names], args, streams, labels=names)
 
 
-def _suffixed(path: str, scenario: Scenario, many: bool) -> str:
-    """With several scenarios, one picture each: the scenario's slug goes before the extension."""
-    if not many:
+def _suffixed(path: str, label: str | None) -> str:
+    """With several scenarios, one picture each: the scenario's label (a demo's name) goes
+    before the extension: ``lab.png`` becomes ``lab-aabb3d.png``."""
+    if label is None:
         return path
     p = Path(path)
-    slug = "".join(c if c.isalnum() else "-" for c in scenario.title.lower()).strip("-")
+    slug = "-".join("".join(c if c.isalnum() else " " for c in label.lower()).split())
     return str(p.with_name(f"{p.stem}-{slug}{p.suffix}"))
 
 
-def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, streams: Streams, many: bool) -> None:
+def _pictures(
+    record: RunRecord, scenario: Scenario, args: argparse.Namespace, streams: Streams, label: str | None
+) -> None:
     if not (args.plot or args.animate or args.html):
         return
     from .. import plotting  # matplotlib and plotly load only when a picture is asked for
@@ -122,13 +128,22 @@ def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, s
     ):
         target = getattr(args, option)
         if target:
-            path = _suffixed(target, scenario, many)
+            path = _suffixed(target, label)
             save(record, scenario, path)
             streams.err(f"wrote {path}")
 
 
-def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Streams) -> int:
-    """Apply the flags to each scenario, run it, and print or write the output."""
+def execute(
+    scenarios: list[Scenario], args: argparse.Namespace, streams: Streams, labels: list[str] | None = None
+) -> int:
+    """Apply the flags to each scenario, run it, and print or write the output. ``labels`` name
+    the scenarios' pictures when there are several (default: their titles)."""
+    if args.explain and args.format != "table":
+        raise InvalidInputError(
+            "--explain",
+            f"works with --format table only, not {args.format}; "
+            "--format json already carries each collision's working (normal, approach_speed, impulse, velocities)",
+        )
     if args.plot or args.animate or args.html:
         from .. import plotting  # matplotlib and plotly load only when a picture is asked for
 
@@ -136,7 +151,8 @@ def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Stream
     overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
     texts: list[str] = []
     records: list[RunRecord] = []
-    for scenario in scenarios:
+    for index, scenario in enumerate(scenarios):
+        label = None if len(scenarios) == 1 else labels[index] if labels else scenario.title
         if overrides:
             scenario = scenario.with_settings(**overrides)
         bar = ProgressBar(streams, scenario.title)
@@ -146,7 +162,7 @@ def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Stream
         finally:
             bar.close()
         records.append(record)
-        _pictures(record, scenario, args, streams, len(scenarios) > 1)
+        _pictures(record, scenario, args, streams, label)
         if args.format == "table":
             texts.append(render(record, args.format, args.every, args.quiet, args.explain))
         else:  # the table prints its warnings; CSV and JSON stay data, so warnings go to stderr

@@ -15,6 +15,8 @@ import types
 from pathlib import Path
 from typing import Any
 
+from ..numba_cache import use_user_cache
+
 __all__ = ["is_cached", "kernels"]
 
 _HERE = Path(__file__).resolve().parent
@@ -24,6 +26,7 @@ _loaded: dict[str, types.ModuleType] = {}
 def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     """Load ``name``.py again as ``collisionlab.engine._compiled_<name>`` and jit its functions.
     The module goes into ``sys.modules`` so that numba's cache can find it again."""
+    use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
     import numba
 
     qualified = f"{__package__}._compiled_{name}"

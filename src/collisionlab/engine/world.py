@@ -104,6 +104,7 @@ class World:
             restitution=settings.restitution,
             gravity=settings.gravity,
             dims=scenario.dims,
+            scenario=scenario,
         )
         ledger = self.record.ledger
         ledger.kinetic_start = ledger.kinetic_end = self.kinetic_energy()

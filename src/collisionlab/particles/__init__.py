@@ -2,8 +2,9 @@
 
 :class:`ParticleWorld` holds N discs (2D) or spheres (3D) as arrays and steps them with the
 scalar core's impulse law; :func:`grid_pairs` is its broad phase as a stateless query;
-:func:`gas_scenario` builds the benchmark's gas. numba (a dependency; optional at run time) makes it about a
-hundred times faster; without it the same numbers come from plain numpy.
+:func:`gas_scenario` builds the benchmark's gas. numba (a dependency; optional at run time)
+makes it much faster (``bench/README.md`` has the figures); without it the same numbers come
+from plain numpy.
 """
 
 from __future__ import annotations

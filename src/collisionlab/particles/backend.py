@@ -3,6 +3,9 @@
 numba is a dependency: ``"auto"`` and ``"numba"`` run the compiled kernels. ``"python"`` runs
 the very same functions uncompiled (for small worlds and tests: it gives the same numbers, far
 more slowly). There is no second, hand-kept implementation.
+
+numba's compiled kernels are cached in the user's cache folder, never inside the installed
+package (:mod:`collisionlab.numba_cache`).
 """
 
 from __future__ import annotations
@@ -12,8 +15,12 @@ from types import ModuleType
 import numpy as np
 
 from ..errors import InvalidInputError
+from ..numba_cache import use_user_cache
 
 __all__ = ["BACKENDS", "engine_kernels", "is_compiled", "pick_backend", "warm_up"]
+
+
+use_user_cache()  # numba reads NUMBA_CACHE_DIR once, when it is first imported
 
 #: The backends by name; ``"auto"`` means numba.
 BACKENDS: tuple[str, ...] = ("auto", "numba", "python")

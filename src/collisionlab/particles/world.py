@@ -207,6 +207,21 @@ class ParticleWorld:
             np.array(offsets, dtype=np.float64),
         )
 
+    def __repr__(self) -> str:
+        """Counts and settings, never the arrays.
+
+        >>> ParticleWorld([[0, 0], [3, 0]], [[1, 0], [-1, 0]], radii=1.0, box=((-5, -5), (8, 5)), backend="python")
+        <ParticleWorld: 2 discs in 2D, 4 walls, e = 1, gravity off, t = 0 s after 0 steps, backend python>
+        """
+        kind = ("disc" if self._dim == 2 else "sphere") + ("" if self.n == 1 else "s")
+        walls = int(self._planes_n.shape[0])
+        gravity = "on" if np.any(self._gravity != 0.0) else "off"
+        return (
+            f"<ParticleWorld: {self.n:,} {kind} in {self._dim}D, {walls} wall{'' if walls == 1 else 's'}, "
+            f"e = {self._e:g}, gravity {gravity}, t = {self._time:g} s after {self._steps:,} steps, "
+            f"backend {self._backend}>"
+        )
+
     # --- read-only views, in the order the bodies were given ---------------------------------
     def _unsorted(self, stored: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.empty_like(stored)
