@@ -8,6 +8,7 @@ import math
 import re
 import tomllib
 
+import jsonschema
 import numpy as np
 import pytest
 
@@ -17,6 +18,7 @@ from collisionlab.model import Body, Obstacle, Scenario, Settings
 from collisionlab.record import RunRecord
 from collisionlab.scenario_file import ScenarioError, parse_scenario
 from collisionlab.world import World, simulate
+from tests.schema_check import check_scenario_text
 
 
 def _kinetic_from_frame(record: RunRecord, masses: dict[str, float], index: int) -> float:
@@ -173,3 +175,12 @@ def test_a_gas_fraction_gives_the_count() -> None:
 def test_bad_gas_tables_name_the_field(extra: str, field: str) -> None:
     with pytest.raises(ScenarioError, match=rf"^f\.toml: {re.escape(field)}:"):
         _gas(extra)
+
+
+def test_a_gas_table_meets_the_scenario_schema_and_a_bad_one_does_not() -> None:
+    good = '[simulation]\nallow_initial_overlap = true\n[[gas]]\nshape = "circle"\nradius = 1\n'
+    good += "region = [[0, 0], [9, 9]]\ncount = 4\n"
+    check_scenario_text(good)
+    assert len(parse_scenario(tomllib.loads(good)).bodies) == 4
+    with pytest.raises(jsonschema.ValidationError):
+        check_scenario_text(good.replace("count = 4", "count = 4\nfraction = 0.1"))

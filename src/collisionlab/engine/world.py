@@ -93,6 +93,7 @@ class World:
         self._names = [b.name for b in scenario.bodies]
         self._static_names = [o.name for o in scenario.obstacles]
         self._masses = [b.mass for b in scenario.bodies]
+        self._mass_array = np.asarray(self._masses, dtype=np.float64)
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
         self._kernels: Any = None
@@ -119,6 +120,10 @@ class World:
         self._min_cell = 2.0 * extent + self.params.contact_margin
         self._max_cells = 6 * n + 64
         self._check_initial_overlap()
+        # Per body in the order given (storage is still that order here).
+        kinds, extents = self._bodies.kind, self._bodies.ext
+        self._thickness = np.array([_thickness(int(k), e, self.dims) for k, e in zip(kinds, extents, strict=True)])
+        self._thinnest = float(self._thickness.min())
         self._exact = ExactStepper(scenario, self.record) if settings.mode == "exact" else None
         compiled = self.params.compiled
         self._compiled = n * settings.steps > COMPILE_ABOVE if compiled is None else compiled
@@ -173,11 +178,10 @@ class World:
         return [Vector3D(*row) for row in self.velocity_array.tolist()]
 
     def _mass_and(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> tuple[Any, Any]:
-        """The masses of the bodies of finite mass and their rows of ``stored``, in given order."""
-        rows = self._given_order(stored)
-        masses = np.asarray(self._masses)
+        """The masses of the bodies of finite mass and their rows of ``stored`` (any order: sums)."""
+        masses = self._mass_array[self._bodies.ids]
         live = np.isfinite(masses)
-        return masses[live], rows[live]
+        return masses[live], stored[live]
 
     def kinetic_energy(self) -> float:
         m, v = self._mass_and(self._bodies.vel)
@@ -259,7 +263,11 @@ class World:
         b, dt = self._bodies, self.scenario.settings.dt
         n = b.n
         speeds = np.sqrt(np.einsum("ij,ij->i", b.vel, b.vel))
-        thick = np.array([_thickness(int(k), e, self.dims) for k, e in zip(b.kind, b.ext, strict=True)])
+        thick = self._thickness[b.ids]
+        # Nothing moves farther than the thinnest body in a step: no pair can tunnel (a pair's
+        # relative speed is at most twice the fastest, its limit at least twice the thinnest).
+        if float(speeds.max()) * dt <= self._thinnest:
+            return
         found: tuple[int, int, float, float] | None = None
         if self._statics.m:
             over = speeds * dt > thick
