@@ -37,6 +37,9 @@ from .state import bodies_of, statics_of
 
 __all__ = ["InitialOverlapError", "World", "simulate", "stencil"]
 
+#: Rows of the event buffer kept between calls; a larger one (after a burst) is let go.
+_EVENT_ROWS_KEPT = 4096
+
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C).
 _CHUNK_SECONDS = 0.1
 
@@ -133,7 +136,7 @@ class World:
         self._dest = np.zeros(n, np.int64)
         self._touch_keys = np.zeros(16, np.int64)
         self._touch_count = np.zeros(1, np.int64)
-        capacity = max(16, 2 * n)
+        capacity = max(16, n // 4)  # contacts: grown by the kernel when a step has more
         self._contacts = (np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), np.zeros(capacity))
         self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
         self._event_count = np.zeros(2, np.int64)
@@ -382,6 +385,8 @@ class World:
         ledger.collisions_predicted += float(self._ledger[3])
         ledger.max_penetration = max(ledger.max_penetration, float(self._ledger[4]))
         self._record_events(int(self._event_count[0]))
+        if self._events.shape[0] > _EVENT_ROWS_KEPT:  # a burst of events: do not keep its buffer
+            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
 
     def _record_events(self, count: int) -> None:
         rows = self._events[:count].tolist()
