@@ -114,13 +114,13 @@ def test_a_thousand_balls_dropped_with_e_07_come_to_rest_in_a_heap() -> None:
 
 
 def test_bad_input_names_the_field() -> None:
-    with pytest.raises(InvalidInputError, match="^positions"):
+    with pytest.raises(InvalidInputError, match=r"^positions"):
         EventDrivenWorld([[0.0, 0.0]], [[0.0, 0.0]], [10.0, 10.0], periodic=False)  # inside the wall
-    with pytest.raises(InvalidInputError, match="^positions: balls must not overlap"):
+    with pytest.raises(InvalidInputError, match=r"^positions: balls must not overlap"):
         EventDrivenWorld([[5.0, 5.0], [6.0, 5.0]], [[0.0, 0.0]] * 2, [10.0, 10.0], periodic=False)
-    with pytest.raises(InvalidInputError, match="^gravity"):
+    with pytest.raises(InvalidInputError, match=r"^gravity"):
         EventDrivenWorld([[5.0, 5.0]], [[0.0, 0.0]], [10.0, 10.0], gravity=1.0, tc=0.1)
-    with pytest.raises(InvalidInputError, match="^sides"):
+    with pytest.raises(InvalidInputError, match=r"^sides"):
         EventDrivenWorld([[1.0, 1.0]], [[0.0, 0.0]], [5.0, 5.0])
-    with pytest.raises(InvalidInputError, match="^fraction"):
+    with pytest.raises(InvalidInputError, match=r"^fraction"):
         ExactGas(n=100, dim=3, fraction=0.7, boundary="walls").world()

@@ -9,8 +9,8 @@ goes to an overflow list that is spread again each time the ring comes round. Wh
 runs dry, the next block's list is poured into it. Inserting a far event is O(1), removing any
 event is O(1) from a list or O(log h) from the heap of h near events.
 
-Every body has at most one event (its time in ``F[i, EVT]``); ``I[i, HPOS]`` says where it is:
-its index in the heap, -1 in list ``I[i, QID]``, or ``NB_UNSCHEDULED``. Events made stale by
+Every body has at most one event (its time in ``F[i, EVT]``); ``IX[i, HPOS]`` says where it is:
+its index in the heap, -1 in list ``IX[i, QID]``, or ``NB_UNSCHEDULED``. Events made stale by
 another collision are not searched for and removed: they are found stale when they come up
 (the partner's collision counter has changed) and the body is simply predicted again
 ("lazy invalidation").
@@ -30,7 +30,7 @@ _FAR_BLOCKS = 1e17
 
 
 @jit_inline
-def _sift_up(heap: Any, F: Any, I: Any, pos: int) -> None:
+def _sift_up(heap: Any, F: Any, IX: Any, pos: int) -> None:
     i = heap[pos]
     t = F[i, EVT]
     while pos > 0:
@@ -39,14 +39,14 @@ def _sift_up(heap: Any, F: Any, I: Any, pos: int) -> None:
         if F[p, EVT] <= t:
             break
         heap[pos] = p
-        I[p, HPOS] = pos
+        IX[p, HPOS] = pos
         pos = up
     heap[pos] = i
-    I[i, HPOS] = pos
+    IX[i, HPOS] = pos
 
 
 @jit_inline
-def _sift_down(heap: Any, F: Any, I: Any, pos: int, size: int) -> None:
+def _sift_down(heap: Any, F: Any, IX: Any, pos: int, size: int) -> None:
     i = heap[pos]
     t = F[i, EVT]
     while True:
@@ -65,33 +65,33 @@ def _sift_down(heap: Any, F: Any, I: Any, pos: int, size: int) -> None:
         if tc >= t:
             break
         heap[pos] = c
-        I[c, HPOS] = pos
+        IX[c, HPOS] = pos
         pos = child
     heap[pos] = i
-    I[i, HPOS] = pos
+    IX[i, HPOS] = pos
 
 
 @jit_inline
-def _heap_push(heap: Any, F: Any, I: Any, K: Any, i: int) -> None:
+def _heap_push(heap: Any, F: Any, IX: Any, K: Any, i: int) -> None:
     pos = K[K_HEAP]
     K[K_HEAP] = pos + 1
     heap[pos] = i
-    _sift_up(heap, F, I, pos)
+    _sift_up(heap, F, IX, pos)
 
 
 @jit_inline
-def _heap_delete(heap: Any, F: Any, I: Any, K: Any, pos: int) -> None:
+def _heap_delete(heap: Any, F: Any, IX: Any, K: Any, pos: int) -> None:
     size = K[K_HEAP] - 1
     K[K_HEAP] = size
     if pos == size:
         return
     last = heap[size]
     heap[pos] = last
-    I[last, HPOS] = pos
+    IX[last, HPOS] = pos
     if pos > 0 and F[heap[(pos - 1) >> 1], EVT] > F[last, EVT]:
-        _sift_up(heap, F, I, pos)
+        _sift_up(heap, F, IX, pos)
     else:
-        _sift_down(heap, F, I, pos, size)
+        _sift_down(heap, F, IX, pos, size)
 
 
 @jit_inline
@@ -103,66 +103,66 @@ def _block_of(t: float, block: float) -> int:
 
 
 @jit_inline
-def _list_push(I: Any, lists: Any, q: int, i: int) -> None:
+def _list_push(IX: Any, lists: Any, q: int, i: int) -> None:
     head = lists[q]
-    I[i, QNEXT] = head
-    I[i, QPREV] = -1
+    IX[i, QNEXT] = head
+    IX[i, QPREV] = -1
     if head >= 0:
-        I[head, QPREV] = i
+        IX[head, QPREV] = i
     lists[q] = i
-    I[i, QID] = q
-    I[i, HPOS] = -1
+    IX[i, QID] = q
+    IX[i, HPOS] = -1
 
 
 @jit_inline
-def calendar_insert(heap: Any, lists: Any, F: Any, I: Any, P: Any, Q: Any, K: Any, i: int) -> None:
+def calendar_insert(heap: Any, lists: Any, F: Any, IX: Any, P: Any, Q: Any, K: Any, i: int) -> None:
     """Schedule body ``i``'s event at ``F[i, EVT]`` (finite, not already scheduled)."""
     blk = _block_of(F[i, EVT], P[P_BLOCK])
     cur = K[K_CUR]
     nb = Q[Q_NB]
     if blk <= cur:
-        _heap_push(heap, F, I, K, i)
+        _heap_push(heap, F, IX, K, i)
     elif blk - cur < nb:
-        _list_push(I, lists, blk % nb, i)
+        _list_push(IX, lists, blk % nb, i)
         K[K_BUCKETED] += 1
     else:
-        _list_push(I, lists, nb, i)
+        _list_push(IX, lists, nb, i)
 
 
 @jit_inline
-def calendar_remove(heap: Any, lists: Any, F: Any, I: Any, Q: Any, K: Any, i: int) -> None:
+def calendar_remove(heap: Any, lists: Any, F: Any, IX: Any, Q: Any, K: Any, i: int) -> None:
     """Take body ``i``'s event out of the calendar, wherever it is (nothing if unscheduled)."""
-    pos = I[i, HPOS]
+    pos = IX[i, HPOS]
     if pos >= 0:
-        _heap_delete(heap, F, I, K, pos)
+        _heap_delete(heap, F, IX, K, pos)
     elif pos == -1:
-        q = I[i, QID]
-        prev = I[i, QPREV]
-        nxt = I[i, QNEXT]
+        q = IX[i, QID]
+        prev = IX[i, QPREV]
+        nxt = IX[i, QNEXT]
         if nxt >= 0:
-            I[nxt, QPREV] = prev
+            IX[nxt, QPREV] = prev
         if prev >= 0:
-            I[prev, QNEXT] = nxt
+            IX[prev, QNEXT] = nxt
         else:
             lists[q] = nxt
         if q < Q[Q_NB]:
             K[K_BUCKETED] -= 1
-    I[i, HPOS] = NB_UNSCHEDULED
+    IX[i, HPOS] = NB_UNSCHEDULED
 
 
 @jit
-def _spread_overflow(heap: Any, lists: Any, F: Any, I: Any, P: Any, Q: Any, K: Any) -> None:
+def _spread_overflow(heap: Any, lists: Any, F: Any, IX: Any, P: Any, Q: Any, K: Any) -> None:
     nb = Q[Q_NB]
     i = lists[nb]
     lists[nb] = -1
     while i >= 0:
-        nxt = I[i, QNEXT]
-        calendar_insert(heap, lists, F, I, P, Q, K, i)
+        nxt = IX[i, QNEXT]
+        calendar_insert(heap, lists, F, IX, P, Q, K, i)
         i = nxt
 
 
 @jit
-def calendar_next(heap: Any, lists: Any, F: Any, I: Any, P: Any, Q: Any, K: Any) -> int:
+def calendar_next(heap: Any, lists: Any, F: Any, IX: Any, P: Any, Q: Any, K: Any) -> int:
     """The body whose event comes first (left in the calendar), or -1 if nothing is scheduled."""
     nb = Q[Q_NB]
     while K[K_HEAP] == 0:
@@ -174,40 +174,40 @@ def calendar_next(heap: Any, lists: Any, F: Any, I: Any, P: Any, Q: Any, K: Any)
             soonest = F[i, EVT]
             while i >= 0:
                 soonest = min(soonest, F[i, EVT])
-                i = I[i, QNEXT]
+                i = IX[i, QNEXT]
             K[K_CUR] = _block_of(soonest, P[P_BLOCK])
-            _spread_overflow(heap, lists, F, I, P, Q, K)
+            _spread_overflow(heap, lists, F, IX, P, Q, K)
             continue
         cur = K[K_CUR] + 1
         K[K_CUR] = cur
         if cur % nb == 0:
-            _spread_overflow(heap, lists, F, I, P, Q, K)
+            _spread_overflow(heap, lists, F, IX, P, Q, K)
         q = cur % nb
         i = lists[q]
         lists[q] = -1
         while i >= 0:
-            nxt = I[i, QNEXT]
+            nxt = IX[i, QNEXT]
             K[K_BUCKETED] -= 1
-            _heap_push(heap, F, I, K, i)
+            _heap_push(heap, F, IX, K, i)
             i = nxt
     return int(heap[0])
 
 
 @jit_inline
-def calendar_pop(heap: Any, F: Any, I: Any, K: Any) -> None:
+def calendar_pop(heap: Any, F: Any, IX: Any, K: Any) -> None:
     """Remove the heap's first event (after :func:`calendar_next` returned its body)."""
     i = heap[0]
-    _heap_delete(heap, F, I, K, 0)
-    I[i, HPOS] = NB_UNSCHEDULED
+    _heap_delete(heap, F, IX, K, 0)
+    IX[i, HPOS] = NB_UNSCHEDULED
 
 
 @jit
-def calendar_clear(lists: Any, I: Any, P: Any, K: Any, now: float) -> None:
+def calendar_clear(lists: Any, IX: Any, P: Any, K: Any, now: float) -> None:
     """Empty the calendar and make the block of ``now`` the current one."""
     for q in range(lists.shape[0]):
         lists[q] = -1
-    for i in range(I.shape[0]):
-        I[i, HPOS] = NB_UNSCHEDULED
+    for i in range(IX.shape[0]):
+        IX[i, HPOS] = NB_UNSCHEDULED
     K[K_HEAP] = 0
     K[K_BUCKETED] = 0
     K[K_CUR] = _block_of(now, P[P_BLOCK])

@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import Any
 
 from .compile import jit, jit_inline
-from .layout import C, CELL, CNEXT, CPREV, NNB, P_CUT, P_INV_H, P_L, Q_DIM, Q_NC, Q_PERIODIC, X
+from .layout import CELL, CNEXT, CPREV, NNB, P_CUT, P_INV_H, P_L, Q_DIM, Q_NC, Q_PERIODIC, C, X
 
 __all__ = ["build_all_lists", "nearest_image", "rebuild_list"]
 
@@ -66,27 +66,27 @@ def _axis_cell(c: int, o: int, nc: int, periodic: bool) -> int:
 
 
 @jit_inline
-def _put_in_cell(F: Any, I: Any, P: Any, Q: Any, heads: Any, i: int) -> None:
+def _put_in_cell(F: Any, IX: Any, P: Any, Q: Any, heads: Any, i: int) -> None:
     cell = _cell_of(F, P, Q, i)
     head = heads[cell]
-    I[i, CELL] = cell
-    I[i, CNEXT] = head
-    I[i, CPREV] = -1
+    IX[i, CELL] = cell
+    IX[i, CNEXT] = head
+    IX[i, CPREV] = -1
     if head >= 0:
-        I[head, CPREV] = i
+        IX[head, CPREV] = i
     heads[cell] = i
 
 
 @jit_inline
-def _take_from_cell(I: Any, heads: Any, i: int) -> None:
-    prev = I[i, CPREV]
-    nxt = I[i, CNEXT]
+def _take_from_cell(IX: Any, heads: Any, i: int) -> None:
+    prev = IX[i, CPREV]
+    nxt = IX[i, CNEXT]
     if prev >= 0:
-        I[prev, CNEXT] = nxt
+        IX[prev, CNEXT] = nxt
     else:
-        heads[I[i, CELL]] = nxt
+        heads[IX[i, CELL]] = nxt
     if nxt >= 0:
-        I[nxt, CPREV] = prev
+        IX[nxt, CPREV] = prev
 
 
 @jit_inline
@@ -105,7 +105,7 @@ def _set_centre(F: Any, P: Any, Q: Any, i: int) -> None:
 
 
 @jit
-def _link_neighbours(F: Any, I: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int, later_only: bool) -> bool:
+def _link_neighbours(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int, later_only: bool) -> bool:
     """Put on ``i``'s list (and ``i`` on theirs) every body within the reach of its centre;
     ``later_only``: only bodies ``j > i`` (building every list at once). False if a list is full."""
     dim = Q[Q_DIM]
@@ -115,7 +115,7 @@ def _link_neighbours(F: Any, I: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int
     nc0 = Q[Q_NC]
     nc1 = Q[Q_NC + 1]
     nc2 = Q[Q_NC + 2]
-    cell = I[i, CELL]
+    cell = IX[i, CELL]
     c0 = cell % nc0
     c1 = (cell // nc0) % nc1
     c2 = cell // (nc0 * nc1)
@@ -146,49 +146,49 @@ def _link_neighbours(F: Any, I: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int
                             if dim == 3:
                                 dz = nearest_image(dz, P[P_L + 2])
                         if dx * dx + dy * dy + dz * dz < cut2:
-                            ni = I[i, NNB]
-                            nj = I[j, NNB]
+                            ni = IX[i, NNB]
+                            nj = IX[j, NNB]
                             if ni >= cap or nj >= cap:
                                 return False
                             NB[i, ni] = j
-                            I[i, NNB] = ni + 1
+                            IX[i, NNB] = ni + 1
                             NB[j, nj] = i
-                            I[j, NNB] = nj + 1
-                    j = I[j, CNEXT]
+                            IX[j, NNB] = nj + 1
+                    j = IX[j, CNEXT]
     return True
 
 
 @jit
-def rebuild_list(F: Any, I: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int) -> bool:
+def rebuild_list(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int) -> bool:
     """New list for body ``i`` (already moved to the present) centred on where it is now.
     False if some list overflowed (the caller widens ``NB`` and builds every list again)."""
-    for m in range(I[i, NNB]):
+    for m in range(IX[i, NNB]):
         j = NB[i, m]
-        last = I[j, NNB] - 1
+        last = IX[j, NNB] - 1
         for s in range(last + 1):
             if NB[j, s] == i:
                 NB[j, s] = NB[j, last]
-                I[j, NNB] = last
+                IX[j, NNB] = last
                 break
-    I[i, NNB] = 0
-    _take_from_cell(I, heads, i)
+    IX[i, NNB] = 0
+    _take_from_cell(IX, heads, i)
     _set_centre(F, P, Q, i)
-    _put_in_cell(F, I, P, Q, heads, i)
-    return _link_neighbours(F, I, NB, P, Q, heads, i, False)
+    _put_in_cell(F, IX, P, Q, heads, i)
+    return _link_neighbours(F, IX, NB, P, Q, heads, i, False)
 
 
 @jit
-def build_all_lists(F: Any, I: Any, NB: Any, P: Any, Q: Any, heads: Any) -> bool:
+def build_all_lists(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any) -> bool:
     """Every cell and neighbour list from scratch, centred on the present positions (all bodies
     must hold at the same time). False if a list overflowed."""
     n = F.shape[0]
     for c in range(heads.shape[0]):
         heads[c] = -1
     for i in range(n):
-        I[i, NNB] = 0
+        IX[i, NNB] = 0
         _set_centre(F, P, Q, i)
-        _put_in_cell(F, I, P, Q, heads, i)
+        _put_in_cell(F, IX, P, Q, heads, i)
+    ok = True
     for i in range(n):
-        if not _link_neighbours(F, I, NB, P, Q, heads, i, True):
-            return False
-    return True
+        ok = ok and _link_neighbours(F, IX, NB, P, Q, heads, i, True)
+    return ok

@@ -27,7 +27,7 @@ from ..atomic import atomic_path
 from ..errors import InvalidInputError
 from .world import EventSink
 
-__all__ = ["EVENT_FORMATS", "event_format", "event_file", "wall_name"]
+__all__ = ["EVENT_FORMATS", "event_file", "event_format", "wall_name"]
 
 #: File extensions and the format each means.
 EVENT_FORMATS: dict[str, str] = {".csv": "csv", ".jsonl": "jsonl", ".ndjson": "jsonl"}

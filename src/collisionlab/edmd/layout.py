@@ -1,7 +1,7 @@
 """Where each number of an event-driven run lives: the columns of its arrays.
 
 The state is an array of structures, the layout of the C reference (one ``struct`` per body):
-row ``i`` of ``F`` (float64) and of ``I`` (int32) hold everything body ``i``'s events touch, so
+row ``i`` of ``F`` (float64) and of ``IX`` (int32) hold everything body ``i``'s events touch, so
 handling an event reads a few cache lines instead of one line from each of twenty arrays.
 The constants are module globals; numba freezes them into the compiled code.
 
@@ -9,11 +9,11 @@ The constants are module globals; numba freezes them into the compiled code.
 ``F``      position (``X..X+2``), velocity (``V..V+2``), neighbour-list centre (``C..C+2``),
            time ``T`` at which position and velocity hold, scheduled event time ``EVT``,
            time ``TLAST`` of the last collision (the TC model)
-``I``      collision counter ``COUNT``, the partner's counter when the event was scheduled
+``IX``      collision counter ``COUNT``, the partner's counter when the event was scheduled
            ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, cell list
            links ``CELL, CNEXT, CPREV``, calendar links ``HPOS, QID, QNEXT, QPREV``,
            neighbour count ``NNB``
-``NB``     neighbour lists, one row per body, ``NB[i, :I[i, NNB]]``
+``NB``     neighbour lists, one row per body, ``NB[i, :IX[i, NNB]]``
 ``P``      float parameters (``P_*``); ``Q`` int parameters (``Q_*``)
 ``G``      float accumulators (``G_*``); ``K`` int64 counters (``K_*``)
 =========  ==============================================================================
@@ -24,7 +24,6 @@ Walls are numbered ``2 k`` (the low side of axis ``k``) and ``2 k + 1`` (the hig
 from __future__ import annotations
 
 __all__ = [
-    "C",
     "CELL",
     "CNEXT",
     "COUNT",
@@ -41,8 +40,8 @@ __all__ = [
     "KIND_NONE",
     "KIND_PAIR",
     "KIND_WALL",
-    "K_BUFFERED",
     "K_BUCKETED",
+    "K_BUFFERED",
     "K_CUR",
     "K_EVENTS",
     "K_HEAP",
@@ -77,8 +76,9 @@ __all__ = [
     "Q_NB",
     "Q_NC",
     "Q_PERIODIC",
-    "T",
     "TLAST",
+    "C",
+    "T",
     "V",
     "X",
 ]
@@ -92,7 +92,7 @@ EVT = 10
 TLAST = 11
 NF = 12
 
-# I: int32 per body
+# IX: int32 per body
 COUNT = 0
 PCOUNT = 1
 PARTNER = 2
@@ -107,7 +107,7 @@ QPREV = 10
 NNB = 11
 NI = 12
 
-#: ``I[i, HPOS]`` of a body with no event (it does not move and nothing is coming).
+#: ``IX[i, HPOS]`` of a body with no event (it does not move and nothing is coming).
 NB_UNSCHEDULED = -2
 
 # event kinds

@@ -40,6 +40,7 @@ from .layout import (
     G_NOW,
     G_VIRIAL,
     G_WALL,
+    HPOS,
     K_BUFFERED,
     K_EVENTS,
     K_NLIST,
@@ -51,6 +52,7 @@ from .layout import (
     KIND_NONE,
     KIND_PAIR,
     KIND_WALL,
+    NB_UNSCHEDULED,
     NNB,
     P_E,
     P_G,
@@ -65,8 +67,6 @@ from .layout import (
     Q_PERIODIC,
     TLAST,
     C,
-    NB_UNSCHEDULED,
-    HPOS,
     T,
     V,
     X,
@@ -93,7 +93,7 @@ def _advance(F: Any, i: int, now: float, g: float) -> None:
 
 
 @jit
-def _predict(heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
+def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
     """Schedule body ``i``'s next event (``i`` holds at ``now``): the soonest of leaving its
     list, hitting a wall, or hitting a neighbour."""
     g = P[P_G]
@@ -133,7 +133,7 @@ def _predict(heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, K: 
                 partner = wall
     sigma = 2.0 * P[P_RADIUS]
     sigma2 = sigma * sigma
-    for m in range(I[i, NNB]):
+    for m in range(IX[i, NNB]):
         j = NB[i, m]
         dt = now - F[j, T]
         dx = xi - (F[j, X] + F[j, V] * dt)
@@ -150,22 +150,22 @@ def _predict(heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, K: 
             kind = KIND_PAIR
             partner = j
     if tmin == math.inf:
-        I[i, KIND] = KIND_NONE
-        I[i, HPOS] = NB_UNSCHEDULED
+        IX[i, KIND] = KIND_NONE
+        IX[i, HPOS] = NB_UNSCHEDULED
         F[i, EVT] = math.inf
         return
     F[i, EVT] = now + tmin
-    I[i, KIND] = kind
-    I[i, PARTNER] = partner
+    IX[i, KIND] = kind
+    IX[i, PARTNER] = partner
     if kind == KIND_PAIR:
-        I[i, PCOUNT] = I[partner, COUNT]
-    calendar_insert(heap, lists, F, I, P, Q, K, i)
+        IX[i, PCOUNT] = IX[partner, COUNT]
+    calendar_insert(heap, lists, F, IX, P, Q, K, i)
 
 
 @jit_inline
 def _restitution(F: Any, P: Any, i: int, j: int, now: float) -> float:
     """``e``, or 1 under the TC model when ``i`` (or ``j >= 0``) collided less than ``t_c`` ago."""
-    e = P[P_E]
+    e: float = P[P_E]
     if e == 1.0:
         return e
     tc = P[P_TC]
@@ -187,14 +187,14 @@ def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> Non
 
 @jit
 def _collide(
-    heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
+    heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
 ) -> None:
-    j = I[i, PARTNER]
+    j = IX[i, PARTNER]
     g = P[P_G]
     _advance(F, i, now, g)
-    if I[j, COUNT] != I[i, PCOUNT]:
+    if IX[j, COUNT] != IX[i, PCOUNT]:
         K[K_STALE] += 1
-        _predict(heap, lists, F, I, NB, P, Q, K, i, now)
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
     _advance(F, j, now, g)
     dx = F[i, X] - F[j, X]
@@ -207,7 +207,7 @@ def _collide(
     b = dx * (F[i, V] - F[j, V]) + dy * (F[i, V + 1] - F[j, V + 1]) + dz * (F[i, V + 2] - F[j, V + 2])
     if b >= 0.0:  # already moving apart (rounding at a grazing contact): nothing to do
         K[K_STALE] += 1
-        _predict(heap, lists, F, I, NB, P, Q, K, i, now)
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
     r2 = dx * dx + dy * dy + dz * dz
     e = _restitution(F, P, i, j, now)
@@ -227,19 +227,21 @@ def _collide(
         G[G_MAX_OVERLAP] = overlap
     F[i, TLAST] = now
     F[j, TLAST] = now
-    I[i, COUNT] += 1
-    I[j, COUNT] += 1
+    IX[i, COUNT] += 1
+    IX[j, COUNT] += 1
     K[K_PAIRS] += 1
     if buf.shape[0] > 0:
         _record(buf, K, now, i, j, -0.5 * (1.0 + e) * m * b / r)
-    calendar_remove(heap, lists, F, I, Q, K, j)
-    _predict(heap, lists, F, I, NB, P, Q, K, i, now)
-    _predict(heap, lists, F, I, NB, P, Q, K, j, now)
+    calendar_remove(heap, lists, F, IX, Q, K, j)
+    _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+    _predict(heap, lists, F, IX, NB, P, Q, K, j, now)
 
 
 @jit
-def _bounce(heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float) -> None:
-    wall = I[i, PARTNER]
+def _bounce(
+    heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
+) -> None:
+    wall = IX[i, PARTNER]
     _advance(F, i, now, P[P_G])
     k = wall >> 1
     high = (wall & 1) == 1
@@ -250,7 +252,7 @@ def _bounce(heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, G: A
     into = (v > 0.0) == high and v != 0.0
     if not into and not (floor and F[i, X + 1] <= r):  # not moving into this wall (any more)
         K[K_STALE] += 1
-        _predict(heap, lists, F, I, NB, P, Q, K, i, now)
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
     e = _restitution(F, P, i, -1, now)
     after = -e * v
@@ -267,11 +269,11 @@ def _bounce(heap: Any, lists: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, G: A
     if overlap > G[G_MAX_OVERLAP]:
         G[G_MAX_OVERLAP] = overlap
     F[i, TLAST] = now
-    I[i, COUNT] += 1
+    IX[i, COUNT] += 1
     K[K_WALLS] += 1
     if buf.shape[0] > 0:
         _record(buf, K, now, i, -1 - wall, impulse)
-    _predict(heap, lists, F, I, NB, P, Q, K, i, now)
+    _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
 
 
 @jit
@@ -280,7 +282,7 @@ def run_events(
     lists: Any,
     heads: Any,
     F: Any,
-    I: Any,
+    IX: Any,
     NB: Any,
     P: Any,
     Q: Any,
@@ -297,26 +299,26 @@ def run_events(
             return BUFFER_FULL
         if handled >= max_events:
             return EVENT_LIMIT
-        i = calendar_next(heap, lists, F, I, P, Q, K)
+        i = calendar_next(heap, lists, F, IX, P, Q, K)
         if i < 0 or F[i, EVT] > t_end:
             G[G_NOW] = t_end
             return DONE
         now = F[i, EVT]
         G[G_NOW] = now
-        calendar_pop(heap, F, I, K)
+        calendar_pop(heap, F, IX, K)
         handled += 1
         K[K_EVENTS] += 1
-        kind = I[i, KIND]
+        kind = IX[i, KIND]
         if kind == KIND_PAIR:
-            _collide(heap, lists, F, I, NB, P, Q, G, K, buf, i, now)
+            _collide(heap, lists, F, IX, NB, P, Q, G, K, buf, i, now)
         elif kind == KIND_WALL:
-            _bounce(heap, lists, F, I, NB, P, Q, G, K, buf, i, now)
+            _bounce(heap, lists, F, IX, NB, P, Q, G, K, buf, i, now)
         else:
             _advance(F, i, now, P[P_G])
             K[K_NLIST] += 1
-            if not rebuild_list(F, I, NB, P, Q, heads, i):
+            if not rebuild_list(F, IX, NB, P, Q, heads, i):
                 return LIST_FULL
-            _predict(heap, lists, F, I, NB, P, Q, K, i, now)
+            _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
 
 
 @jit
@@ -328,20 +330,20 @@ def synchronize(F: Any, P: Any, now: float) -> None:
 
 
 @jit
-def start(heap: Any, lists: Any, heads: Any, F: Any, I: Any, NB: Any, P: Any, Q: Any, K: Any, now: float) -> bool:
+def start(heap: Any, lists: Any, heads: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, now: float) -> bool:
     """Bring every body to ``now``, build every list, and predict every event afresh (the
     beginning of a run, or a restart after the neighbour lists were widened)."""
     synchronize(F, P, now)
-    if not build_all_lists(F, I, NB, P, Q, heads):
+    if not build_all_lists(F, IX, NB, P, Q, heads):
         return False
-    calendar_clear(lists, I, P, K, now)
+    calendar_clear(lists, IX, P, K, now)
     for i in range(F.shape[0]):
-        _predict(heap, lists, F, I, NB, P, Q, K, i, now)
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
     return True
 
 
 @jit
-def max_overlap_now(F: Any, I: Any, NB: Any, P: Any, Q: Any) -> float:
+def max_overlap_now(F: Any, IX: Any, NB: Any, P: Any, Q: Any) -> float:
     """The deepest overlap of any pair of neighbours or any body and wall, bodies as they are
     stored (call :func:`synchronize` first); negative: the smallest gap."""
     sigma = 2.0 * P[P_RADIUS]
@@ -349,7 +351,7 @@ def max_overlap_now(F: Any, I: Any, NB: Any, P: Any, Q: Any) -> float:
     periodic = Q[Q_PERIODIC] != 0
     worst = -math.inf
     for i in range(F.shape[0]):
-        for m in range(I[i, NNB]):
+        for m in range(IX[i, NNB]):
             j = NB[i, m]
             if j < i:
                 continue

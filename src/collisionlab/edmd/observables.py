@@ -58,7 +58,9 @@ class ExactGas:
             raise InvalidInputError("dim", "must be 2 or 3", got=self.dim)
         fraction = positive(self.fraction, "fraction")
         if fraction >= (0.9069 if dim == 2 else 0.7405):
-            raise InvalidInputError("fraction", "must be below close packing (0.9069 in 2D, 0.7405 in 3D)", got=fraction)
+            raise InvalidInputError(
+                "fraction", "must be below close packing (0.9069 in 2D, 0.7405 in 3D)", got=fraction
+            )
         if self.boundary not in BOUNDARIES:
             raise InvalidInputError("boundary", f"must be one of {', '.join(BOUNDARIES)}", got=self.boundary)
         tc = self.tc
@@ -126,8 +128,7 @@ def measure(world: EventDrivenWorld, energy_start: float, seconds: float) -> dic
     }
     if not world.periodic:
         pressures = [
-            tally.wall_momentum[w] / (volume / float(world.sides[w // 2])) / t if t > 0 else 0.0
-            for w in range(2 * dim)
+            tally.wall_momentum[w] / (volume / float(world.sides[w // 2])) / t if t > 0 else 0.0 for w in range(2 * dim)
         ]
         pressure = sum(pressures) / len(pressures)
         report["compressibility_walls"] = pressure * volume / nkt if nkt > 0 else None

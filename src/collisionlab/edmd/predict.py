@@ -23,15 +23,13 @@ from __future__ import annotations
 
 import math
 
-from .compile import jit, jit_inline
+from .compile import jit_inline
 
 __all__ = ["ceiling_time", "floor_time", "leave_time", "pair_time", "wall_time"]
 
 
 @jit_inline
-def pair_time(
-    dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma2: float, tmin: float
-) -> float:
+def pair_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma2: float, tmin: float) -> float:
     """Time until two balls ``sigma = sqrt(sigma2)`` apart (centre to centre) touch, given their
     relative position ``dr`` and velocity ``dv``; ``inf`` if they miss, move apart, or cannot
     meet before ``tmin``. Touching or overlapping and approaching: 0 (collide now)."""

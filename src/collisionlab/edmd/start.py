@@ -24,8 +24,8 @@ __all__ = ["box_side", "gaussian_velocities", "lattice"]
 def box_side(n: int, dim: int, fraction: float, radius: float) -> float:
     """The side of the square (cubic) box holding ``n`` balls at packing ``fraction``.
 
-    >>> round(box_side(4000, 3, 0.25, 0.5), 6)   # the reference's 4,000 spheres, sigma = 1
-    20.310096
+    >>> round(box_side(4000, 3, 0.25, 0.5), 6)   # the reference's 4,000 spheres, sigma = 1: (4000 pi/6 / 0.25)^(1/3)
+    20.309826
     """
     return float((n * ball_volume(radius, dim) / fraction) ** (1.0 / dim))
 
@@ -47,7 +47,7 @@ def lattice(n: int, dim: int, fraction: float, radius: float, periodic: bool, se
         coords = (sites + 0.5) * spacing
     else:
         spacing = (side - 2.0 * radius) / (m - 1) if m > 1 else side
-        coords = radius + sites * spacing
+        coords = np.minimum(radius + sites * spacing, side - radius)  # the last site exactly, not past it
     nearest = spacing * math.sqrt(2.0)
     if nearest <= 2.0 * radius * (1.0 + 1e-12) or (periodic and side < 8.0 * radius):
         raise InvalidInputError(

@@ -112,7 +112,7 @@ class EventDrivenWorld:
         self.F[:, L.X : L.X + dim] = pos
         self.F[:, L.V : L.V + dim] = vel
         self.F[:, L.TLAST] = -math.inf
-        self.I = np.zeros((n, L.NI), dtype=np.int32)
+        self.IX = np.zeros((n, L.NI), dtype=np.int32)
         self.P = np.zeros(L.NP)
         self.Q = np.zeros(L.NQ, dtype=np.int64)
         self.G = np.zeros(L.NG)
@@ -149,7 +149,7 @@ class EventDrivenWorld:
         self.G[L.G_MAX_OVERLAP] = 0.0
 
     def _start(self) -> None:
-        while not start(self.heap, self.lists, self.heads, self.F, self.I, self.NB, self.P, self.Q, self.K, self.time):
+        while not start(self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.K, self.time):
             self.NB = np.zeros((self.n, 2 * self.NB.shape[1]), dtype=np.int32)
 
     def _tune_calendar(self) -> None:
@@ -176,7 +176,7 @@ class EventDrivenWorld:
         while True:
             before = int(self.K[L.K_EVENTS])
             status = run_events(
-                self.heap, self.lists, self.heads, self.F, self.I, self.NB, self.P, self.Q, self.G, self.K,
+                self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K,
                 buffer, float(until), limit,
             )  # fmt: skip
             limit -= int(self.K[L.K_EVENTS]) - before
@@ -221,11 +221,11 @@ class EventDrivenWorld:
     def max_overlap(self) -> float:
         """Deepest overlap now (pairs and walls; negative: the smallest gap), length units."""
         synchronize(self.F, self.P, self.time)
-        return float(max_overlap_now(self.F, self.I, self.NB, self.P, self.Q))
+        return float(max_overlap_now(self.F, self.IX, self.NB, self.P, self.Q))
 
     @property
     def nbytes(self) -> int:
-        arrays = (self.F, self.I, self.NB, self.P, self.Q, self.G, self.K, self.heads, self.heap, self.lists)
+        arrays = (self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K, self.heads, self.heap, self.lists)
         return sum(a.nbytes for a in arrays)
 
     def tally(self) -> Tally:
