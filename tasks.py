@@ -4,6 +4,8 @@
     python3 tasks.py run     # a virtual environment in .venv, then the lab's four demos
     python3 tasks.py test    # the same with the test tools, then ruff, mypy and pytest
     python3 tasks.py bench   # the many-body benchmark against pymunk (bench/README.md)
+    python3 tasks.py bench-edmd   # the event-driven engine against the reference C code
+    python3 tasks.py edmd-long    # 10^7 elastic collisions; 1,000 balls coming to rest
 
 Each step is printed before it runs; the first failure stops with its exit status.
 """
@@ -65,7 +67,19 @@ def bench() -> None:
     sh(PYTHON, "bench/bench_gas.py", *sys.argv[2:])
 
 
-TASKS = {"run": run, "test": test, "bench": bench}
+def bench_edmd() -> None:
+    setup("dev")
+    sh(PYTHON, "bench/bench_edmd.py", *sys.argv[2:])
+
+
+def edmd_long() -> None:
+    """The long checks of the event-driven engine: 10^7 elastic collisions, and the heap of
+    1,000 balls (e = 0.7) followed until its energy stops falling."""
+    setup("dev")
+    sh(PYTHON, "bench/edmd_long.py", *sys.argv[2:])
+
+
+TASKS = {"run": run, "test": test, "bench": bench, "bench-edmd": bench_edmd, "edmd-long": edmd_long}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:
