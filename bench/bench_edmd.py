@@ -78,7 +78,9 @@ def ours(dim: int, n: int, fraction: float, time_: float) -> dict[str, Any]:
 
 
 def peer(n: int, fraction: float, time_: float) -> dict[str, Any]:
-    out = subprocess.run(["bash", str(PEER), str(n), str(fraction), str(time_)], capture_output=True, text=True, check=True)
+    out = subprocess.run(
+        ["bash", str(PEER), str(n), str(fraction), str(time_)], capture_output=True, text=True, check=True
+    )
     result = dict(json.loads(out.stdout.strip().splitlines()[-1]))
     result["z"] = result["pressure"] / (6.0 * fraction / 3.141592653589793)
     return result
@@ -100,7 +102,9 @@ def main() -> None:
         return
     workloads = [w for w in WORKLOADS if w[1] == 4000] if args.quick else WORKLOADS
     with_peer = not args.no_peer and PEER.exists()
-    print(f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.machine()}, Python {platform.python_version()}")
+    print(
+        f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.machine()}, Python {platform.python_version()}"
+    )
     results: dict[tuple[int, int, float], dict[str, list[dict[str, Any]]]] = {}
     for _ in range(args.repeats):
         for dim, n, fraction, peer_time, compare in workloads:
@@ -110,7 +114,9 @@ def main() -> None:
                 slot["peer"].append(peer(n, fraction, peer_time))
             print(".", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
-    print("| workload | collisions/run | ours, collisions/s | peer (C), collisions/s | ours / peer | Z ours | Z peer | B/body |")
+    print(
+        "| workload | collisions/run | ours, collisions/s | peer (C), collisions/s | ours / peer | Z ours | Z peer | B/body |"
+    )
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for (dim, n, fraction), slot in results.items():
         mine = [r["collisions_per_s"] for r in slot["ours"]]
