@@ -102,9 +102,8 @@ def main() -> None:
         return
     workloads = [w for w in WORKLOADS if w[1] == 4000] if args.quick else WORKLOADS
     with_peer = not args.no_peer and PEER.exists()
-    print(
-        f"# {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.machine()}, Python {platform.python_version()}"
-    )
+    when = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
+    print(f"# {when}, {platform.machine()}, Python {platform.python_version()}")
     results: dict[tuple[int, int, float], dict[str, list[dict[str, Any]]]] = {}
     for _ in range(args.repeats):
         for dim, n, fraction, peer_time, compare in workloads:
@@ -115,7 +114,8 @@ def main() -> None:
             print(".", end="", file=sys.stderr, flush=True)
     print(file=sys.stderr)
     print(
-        "| workload | collisions/run | ours, collisions/s | peer (C), collisions/s | ours / peer | Z ours | Z peer | B/body |"
+        "| workload | collisions/run | ours, collisions/s | peer (C), collisions/s | ours / peer "
+        "| Z ours | Z peer | B/body |"
     )
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for (dim, n, fraction), slot in results.items():
