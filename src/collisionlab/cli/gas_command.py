@@ -177,7 +177,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         ).checked()
         if args.events is not None:
             event_format(args.events)
-        gas.world()  # checks the start (and compiles the loop) before any file is opened
+        world = gas.world()  # checks the start (and compiles the loop) before any file is opened
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
@@ -188,10 +188,10 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     try:
         if args.events is not None:
             with event_file(args.events) as sink:
-                report = run_exact_gas(gas, sink)
+                report = run_exact_gas(gas, sink, world)
             report["events_file"] = args.events
         else:
-            report = run_exact_gas(gas)
+            report = run_exact_gas(gas, world=world)
     except OSError as err:
         streams.err(f"{_PROG}: --events: cannot write {args.events}: {err.strerror or err}")
         return 1

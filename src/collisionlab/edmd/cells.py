@@ -1,7 +1,7 @@
 """Cell lists and neighbour lists of the event-driven engine.
 
 Each body keeps a list of the bodies whose list centres were within ``P_CUT`` (the shell,
-1.5 diameters by default, Smallenburg's ``1 + alpha``) of its own when its list was last built,
+1.7 diameters by default; Smallenburg's ``1 + alpha``) of its own when its list was last built,
 and an event to rebuild it when it has drifted ``P_SKIN = (P_CUT - sigma) / 2`` from its centre.
 Two bodies not on each other's lists are then always more than ``P_CUT - 2 P_SKIN = sigma``
 apart: they cannot collide, and only neighbours are ever tested.
@@ -18,7 +18,7 @@ from __future__ import annotations
 from typing import Any
 
 from .compile import jit, jit_inline
-from .layout import CELL, CNEXT, CPREV, NNB, P_CUT, P_INV_H, P_L, Q_DIM, Q_NC, Q_PERIODIC, C, X
+from .layout import CELL, CNEXT, CPREV, EDGE, NNB, P_CUT, P_INV_H, P_L, Q_DIM, Q_NC, Q_PERIODIC, C, X
 
 __all__ = ["build_all_lists", "nearest_image", "rebuild_list"]
 
@@ -66,8 +66,24 @@ def _axis_cell(c: int, o: int, nc: int, periodic: bool) -> int:
 
 
 @jit_inline
+def _on_edge(P: Any, Q: Any, cell: int) -> int:
+    """1 if ``cell`` lies on a face of a periodic box (its neighbours may be across it)."""
+    if Q[Q_PERIODIC] == 0:
+        return 0
+    rest = cell
+    for k in range(Q[Q_DIM]):
+        nc = Q[Q_NC + k]
+        c = rest % nc
+        rest //= nc
+        if c == 0 or c == nc - 1:
+            return 1
+    return 0
+
+
+@jit_inline
 def _put_in_cell(F: Any, IX: Any, P: Any, Q: Any, heads: Any, i: int) -> None:
     cell = _cell_of(F, P, Q, i)
+    IX[i, EDGE] = _on_edge(P, Q, cell)
     head = heads[cell]
     IX[i, CELL] = cell
     IX[i, CNEXT] = head

@@ -12,7 +12,7 @@ The constants are module globals; numba freezes them into the compiled code.
 ``IX``      collision counter ``COUNT``, the partner's counter when the event was scheduled
            ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, cell list
            links ``CELL, CNEXT, CPREV``, calendar links ``HPOS, QID, QNEXT, QPREV``,
-           neighbour count ``NNB``
+           neighbour count ``NNB``, ``EDGE`` (cell on a periodic face)
 ``NB``     neighbour lists, one row per body, ``NB[i, :IX[i, NNB]]``
 ``P``      float parameters (``P_*``); ``Q`` int parameters (``Q_*``)
 ``G``      float accumulators (``G_*``); ``K`` int64 counters (``K_*``)
@@ -28,6 +28,7 @@ __all__ = [
     "CNEXT",
     "COUNT",
     "CPREV",
+    "EDGE",
     "EVT",
     "G_LOST",
     "G_MAX_OVERLAP",
@@ -105,7 +106,8 @@ QID = 8
 QNEXT = 9
 QPREV = 10
 NNB = 11
-NI = 12
+EDGE = 12  # 1 if the body's cell touches a periodic face (only then are nearest images needed)
+NI = 13
 
 #: ``IX[i, HPOS]`` of a body with no event (it does not move and nothing is coming).
 NB_UNSCHEDULED = -2

@@ -34,6 +34,7 @@ from .cells import build_all_lists, nearest_image, rebuild_list
 from .compile import jit, jit_inline
 from .layout import (
     COUNT,
+    EDGE,
     EVT,
     G_LOST,
     G_MAX_OVERLAP,
@@ -133,18 +134,25 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
                 partner = wall
     sigma = 2.0 * P[P_RADIUS]
     sigma2 = sigma * sigma
+    wrap = periodic and IX[i, EDGE] != 0
+    half_g = 0.5 * g
     for m in range(IX[i, NNB]):
         j = NB[i, m]
         dt = now - F[j, T]
         dx = xi - (F[j, X] + F[j, V] * dt)
-        dy = yi - (F[j, X + 1] + (F[j, V + 1] - 0.5 * g * dt) * dt)
         dz = zi - (F[j, X + 2] + F[j, V + 2] * dt)
-        if periodic:
+        if g == 0.0:  # the common case, without the parabola's terms
+            dy = yi - (F[j, X + 1] + F[j, V + 1] * dt)
+            dvy = vy - F[j, V + 1]
+        else:
+            dy = yi - (F[j, X + 1] + (F[j, V + 1] - half_g * dt) * dt)
+            dvy = vy - (F[j, V + 1] - g * dt)
+        if wrap:
             dx = nearest_image(dx, P[P_L])
             dy = nearest_image(dy, P[P_L + 1])
             if dim == 3:
                 dz = nearest_image(dz, P[P_L + 2])
-        t = pair_time(dx, dy, dz, vx - F[j, V], vy - (F[j, V + 1] - g * dt), vz - F[j, V + 2], sigma2, tmin)
+        t = pair_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2, tmin)
         if t < tmin:
             tmin = t
             kind = KIND_PAIR

@@ -49,7 +49,7 @@ def lattice(n: int, dim: int, fraction: float, radius: float, periodic: bool, se
         spacing = (side - 2.0 * radius) / (m - 1) if m > 1 else side
         coords = np.minimum(radius + sites * spacing, side - radius)  # the last site exactly, not past it
     nearest = spacing * math.sqrt(2.0)
-    if nearest <= 2.0 * radius * (1.0 + 1e-12) or (periodic and side < 8.0 * radius):
+    if nearest <= 2.0 * radius or (periodic and side < 8.0 * radius):
         raise InvalidInputError(
             "fraction",
             f"too dense to start {n:,} balls on a lattice in {'a periodic box' if periodic else 'walls'}"
