@@ -51,6 +51,22 @@ class Tally:
     energy_lost: float
 
 
+def _morton_order(pos: NDArray[np.float64], cell: float) -> NDArray[np.int64]:
+    """Indices that sort ``pos`` by the Morton code of cells of side ``cell`` (ties by position).
+
+    >>> _morton_order(np.array([[3.0, 3.0], [0.0, 0.0], [3.0, 0.0], [0.0, 3.0]]), 2.0).tolist()
+    [1, 2, 3, 0]
+    """
+    n, dim = pos.shape
+    cells = np.floor((pos - pos.min(axis=0)) / cell).astype(np.uint64)
+    code = np.zeros(n, dtype=np.uint64)
+    for bit in range(63 // dim):
+        for k in range(dim):
+            code |= ((cells[:, k] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(bit * dim + k)
+    keys = [pos[:, k] for k in reversed(range(dim))]
+    return np.lexsort((*keys, code)).astype(np.int64)
+
+
 class EventDrivenWorld:
     """N equal hard balls (discs in 2D, spheres in 3D) in the box ``[0, sides]``, periodic or
     walled, under optional gravity ``g`` along ``-y`` (walls only), with restitution ``e`` and the
@@ -110,8 +126,13 @@ class EventDrivenWorld:
         self.dim = dim
         self.sides = box
         self.F = np.zeros((n, L.NF))
-        self.F[:, L.X : L.X + dim] = pos
-        self.F[:, L.V : L.V + dim] = vel
+        # Bodies are stored in Morton (Z-curve) order of their starting cells, so that neighbours
+        # sit near each other in memory (a million bodies do not fit in any cache); ``order[k]`` is
+        # the caller's index of stored body k. The key depends on positions only, never on the
+        # caller's numbering, so a permutation of the input is stored the same way.
+        self.order = _morton_order(pos, cut)
+        self.F[:, L.X : L.X + dim] = pos[self.order]
+        self.F[:, L.V : L.V + dim] = vel[self.order]
         self.F[:, L.TLAST] = -math.inf
         self.IX = np.zeros((n, L.NI), dtype=np.int32)
         self.P = np.zeros(L.NP)
@@ -182,7 +203,12 @@ class EventDrivenWorld:
             )  # fmt: skip
             limit -= int(self.K[L.K_EVENTS]) - before
             if sink is not None and self.K[L.K_BUFFERED] > 0:
-                sink(buffer[: int(self.K[L.K_BUFFERED])])
+                block = buffer[: int(self.K[L.K_BUFFERED])]
+                a = block[:, 1].astype(np.int64)
+                b = block[:, 2].astype(np.int64)
+                block[:, 1] = self.order[a]
+                block[:, 2] = np.where(b >= 0, self.order[np.maximum(b, 0)], b)
+                sink(block)
                 self.K[L.K_BUFFERED] = 0
             if status == BUFFER_FULL:
                 continue
@@ -197,7 +223,8 @@ class EventDrivenWorld:
     def positions(self) -> NDArray[np.float64]:
         """Centres at :attr:`time` (a copy; inside the box also with periodic walls)."""
         synchronize(self.F, self.P, self.time)
-        pos = self.F[:, L.X : L.X + self.dim].copy()
+        pos = np.empty((self.n, self.dim))
+        pos[self.order] = self.F[:, L.X : L.X + self.dim]
         if self.periodic:
             pos -= np.floor(pos / self.sides) * self.sides
         return pos
@@ -205,7 +232,9 @@ class EventDrivenWorld:
     @property
     def velocities(self) -> NDArray[np.float64]:
         synchronize(self.F, self.P, self.time)
-        return self.F[:, L.V : L.V + self.dim].copy()
+        vel = np.empty((self.n, self.dim))
+        vel[self.order] = self.F[:, L.V : L.V + self.dim]
+        return vel
 
     def kinetic_energy(self) -> float:
         v = self.velocities
@@ -224,7 +253,19 @@ class EventDrivenWorld:
 
     @property
     def nbytes(self) -> int:
-        arrays = (self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K, self.heads, self.heap, self.lists)
+        arrays = (
+            self.F,
+            self.IX,
+            self.NB,
+            self.P,
+            self.Q,
+            self.G,
+            self.K,
+            self.heads,
+            self.heap,
+            self.lists,
+            self.order,
+        )
         return sum(a.nbytes for a in arrays)
 
     def tally(self) -> Tally:
