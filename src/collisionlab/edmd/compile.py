@@ -4,6 +4,10 @@
 divide by speeds that may be zero, and an infinite time is the right answer: never).
 Contractions of ``a * b + c`` into fused multiply-adds stay off, so that results do not depend
 on the instruction set of the machine that compiled them.
+
+A caveat of numba's cache: a cached function is recompiled when *its own* file changes, not when
+a function it inlines from another file does. After editing ``predict.py``, ``calendar.py`` or
+``cells.py``, delete the ``__pycache__/*.nb*`` files of this package (a fresh install has none).
 """
 
 from __future__ import annotations
