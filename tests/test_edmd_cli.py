@@ -110,6 +110,13 @@ def test_bad_values_name_the_flag(argv: list[str], flag: str, tmp_path: Path) ->
     assert err.startswith(f"collisionlab gas: {flag}: ") and err.count("\n") == 1
 
 
+def test_the_command_line_offers_the_engine_s_boundaries() -> None:
+    from collisionlab.cli.gas_command import BOUNDARIES as offered
+    from collisionlab.edmd.observables import BOUNDARIES
+
+    assert offered == BOUNDARIES
+
+
 def test_a_failed_events_file_leaves_nothing(tmp_path: Path) -> None:
     status, _, err = run(["--n", "100", "--time", "1", "--events", str(tmp_path / "no" / "such" / "e.csv")])
     assert status == 1 and "--events" in err

@@ -14,7 +14,6 @@ import threading
 import time
 from typing import Any
 
-from ..edmd.observables import BOUNDARIES
 from ..errors import InvalidInputError
 from ..particles import BACKENDS, gas_scenario, warm_up
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
@@ -44,6 +43,9 @@ _FLAGS = {
 }
 #: ``--mode``: the time-stepped world (default) or the event-driven, exact one.
 _MODES = ("stepped", "exact")
+#: ``--boundary``: ``collisionlab.edmd.observables.BOUNDARIES``, spelled out so that the command
+#: line starts without importing numba (tests/test_edmd_cli.py checks the two agree).
+BOUNDARIES = ("walls", "periodic")
 #: Seconds of warm-up before the note that the kernels are being compiled (as the progress bar).
 _QUIET_SECONDS = SHOW_AFTER
 
