@@ -5,6 +5,8 @@
     python3 tasks.py test    # the same with the test tools, then ruff, mypy, the docs site and pytest
     python3 tasks.py bench   # the many-body benchmark against pymunk and pybullet (bench/README.md)
     python3 tasks.py bench-engine   # the engine's figures: a 2,020-body scenario, memory, start-up
+    python3 tasks.py bench-edmd     # the event-driven engine against the reference C code
+    python3 tasks.py edmd-long      # 10^7 elastic collisions; 1,000 balls coming to rest
 
 Each step is printed before it runs; the first failure stops with its exit status.
 """
@@ -72,7 +74,26 @@ def bench_engine() -> None:
     sh(PYTHON, "bench/bench_engine.py", *sys.argv[2:])
 
 
-TASKS = {"run": run, "test": test, "bench": bench, "bench-engine": bench_engine}
+def bench_edmd() -> None:
+    setup("dev")
+    sh(PYTHON, "bench/bench_edmd.py", *sys.argv[2:])
+
+
+def edmd_long() -> None:
+    """The long checks of the event-driven engine: 10^7 elastic collisions, and the heap of
+    1,000 balls (e = 0.7) followed until its energy stops falling."""
+    setup("dev")
+    sh(PYTHON, "bench/edmd_long.py", *sys.argv[2:])
+
+
+TASKS = {
+    "run": run,
+    "test": test,
+    "bench": bench,
+    "bench-engine": bench_engine,
+    "bench-edmd": bench_edmd,
+    "edmd-long": edmd_long,
+}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

@@ -2,7 +2,8 @@
 
 Thin: it parses, builds :func:`collisionlab.particles.gas_scenario`, times
 :meth:`~collisionlab.particles.ParticleWorld.step`, and prints (a table or one JSON object) and
-plots. No physics here.
+plots. With ``--mode exact`` it hands the settings to :func:`collisionlab.edmd.observables.run_exact_gas`
+(event-driven, exact) instead. No physics here.
 """
 
 from __future__ import annotations
@@ -34,7 +35,17 @@ _FLAGS = {
     "speeds": "--speeds",
     "backend": "--backend",
     "plot": "--plot",
+    "fraction": "--fraction",
+    "boundary": "--boundary",
+    "time": "--time",
+    "tc": "--tc",
+    "events": "--events",
 }
+#: ``--mode``: the time-stepped world (default) or the event-driven, exact one.
+_MODES = ("stepped", "exact")
+#: ``--boundary``: ``collisionlab.edmd.observables.BOUNDARIES``, spelled out so that the command
+#: line starts without importing numba (tests/test_edmd_cli.py checks the two agree).
+BOUNDARIES = ("walls", "periodic")
 #: Seconds of warm-up before the note that the kernels are being compiled (as the progress bar).
 _QUIET_SECONDS = SHOW_AFTER
 
@@ -67,6 +78,15 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     parser.add_argument("--backend", choices=BACKENDS, default="auto", help="kernels: numba if installed")
     parser.add_argument("--plot", metavar="FILE.png", help="write the speed distribution against Maxwell-Boltzmann")
     parser.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
+    exact = parser.add_argument_group("exact mode (--mode exact: event-driven, no time step)")
+    exact.add_argument("--mode", choices=_MODES, default="stepped", help="stepped (default) or exact (event-driven)")
+    exact.add_argument("--boundary", choices=BOUNDARIES, default="walls", help="walls (default) or periodic")
+    exact.add_argument("--fraction", type=float, default=0.2, help="area (volume) fraction (default 0.2)")
+    exact.add_argument("--time", type=float, default=10.0, help="simulated time (default 10; radius 1, kT 1)")
+    exact.add_argument(
+        "--tc", type=float, default=None, help="TC model: a collision sooner than this after the last is elastic"
+    )
+    exact.add_argument("--events", metavar="FILE", help="stream every collision to FILE.csv or FILE.jsonl")
     parser.add_argument("--quiet", action="store_true", help="no progress bar and no notes on stderr")
     parser.set_defaults(func=run)
 
@@ -102,8 +122,93 @@ def _table(report: dict[str, Any]) -> list[str]:
     return lines
 
 
+def _bad_value(streams: Streams, err: InvalidInputError) -> int:
+    streams.err(
+        f"{_PROG}: {_FLAGS.get(err.field, err.field)}: {err.problem}"
+        + (f" (got {err.got!r})" if err.got is not None else "")
+    )
+    return 2
+
+
+def _exact_table(report: dict[str, Any]) -> list[str]:
+    shape = "discs" if report["dim"] == 2 else "spheres"
+    z_theory = report.get("compressibility_theory")
+    lines = [
+        f"{_PROG}: {report['n']:,} {shape} in {report['dim']}D, exact (event-driven), {report['boundary']}, "
+        f"fraction {report['fraction']:g}, time {report['sim_time']:g} (seed {report['seed']}, "
+        f"e = {report['restitution']:g}, gravity {report['gravity']:g})",
+        f"  simulation loop  {report['seconds']:.3f} s",
+        f"  collisions       {report['collisions']:,} between balls, {report['wall_collisions']:,} with walls"
+        + (f" ({report['collisions_per_s'] / 1e6:.3f} million/s)" if report["collisions_per_s"] else ""),
+        f"  kT               {report['kT']:.6g}",
+        f"  Z = PV/(N kT)    {report['compressibility']:.5f} (collision virial)"
+        + (f", theory {z_theory:.5f}" if z_theory is not None else ""),
+    ]
+    if "compressibility_walls" in report:
+        lines.append(f"  Z from walls     {report['compressibility_walls']:.5f} (momentum given to the walls)")
+    rate_theory = report.get("collision_rate_enskog")
+    lines += [
+        f"  collision rate   {report['collision_rate']:.5g} per ball per unit time"
+        + (f", Enskog {rate_theory:.5g}" if rate_theory is not None else ""),
+        f"  energy drift     {report['energy_drift']:.3e} (relative change of the total energy)",
+        f"  max overlap      {report['max_overlap']:.3e} diameters",
+        f"  memory           {report['bytes_per_body']:.0f} bytes per ball",
+    ]
+    if report.get("events_file"):
+        lines.append(f"  events           {report['events_file']}")
+    return lines
+
+
+def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
+    from ..edmd.events_file import event_file, event_format
+    from ..edmd.observables import ExactGas, run_exact_gas
+
+    try:
+        if args.plot is not None:
+            raise InvalidInputError("plot", "is not available with --mode exact")
+        gas = ExactGas(
+            n=args.n,
+            dim=args.dim,
+            fraction=args.fraction,
+            boundary=args.boundary,
+            time=args.time,
+            seed=args.seed,
+            restitution=args.restitution,
+            gravity=args.gravity,
+            tc=args.tc,
+        ).checked()
+        if args.events is not None:
+            event_format(args.events)
+        world = gas.world()  # checks the start (and compiles the loop) before any file is opened
+    except InvalidInputError as err:
+        return _bad_value(streams, err)
+    except MemoryError:
+        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
+        return 1
+    if gas.restitution > 1.0:
+        streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+    try:
+        if args.events is not None:
+            with event_file(args.events) as sink:
+                report = run_exact_gas(gas, sink, world)
+            report["events_file"] = args.events
+        else:
+            report = run_exact_gas(gas, world=world)
+    except OSError as err:
+        streams.err(f"{_PROG}: --events: cannot write {args.events}: {err.strerror or err}")
+        return 1
+    if args.format == "json":
+        streams.out(json.dumps(report))
+    else:
+        for line in _exact_table(report):
+            streams.out(line)
+    return 0
+
+
 def run(args: argparse.Namespace, streams: Streams) -> int:
     """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure."""
+    if args.mode == "exact":
+        return _run_exact(args, streams)
     notes = bool(streams.interactive) and not args.quiet
     try:
         steps = whole_number(args.steps, "steps")
@@ -114,11 +219,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         scenario = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
         world = scenario.world(restitution=args.restitution, gravity=args.gravity, backend=args.backend)
     except InvalidInputError as err:
-        streams.err(
-            f"{_PROG}: {_FLAGS.get(err.field, err.field)}: {err.problem}"
-            + (f" (got {err.got!r})" if err.got is not None else "")
-        )
-        return 2
+        return _bad_value(streams, err)
     except MemoryError:
         streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
         return 1

@@ -1,0 +1,159 @@
+"""Where each number of an event-driven run lives: the columns of its arrays.
+
+The state is an array of structures, the layout of the C reference (one ``struct`` per body):
+row ``i`` of ``F`` (float64) and of ``IX`` (int32) hold everything body ``i``'s events touch, so
+handling an event reads a few cache lines instead of one line from each of twenty arrays.
+The constants are module globals; numba freezes them into the compiled code.
+
+=========  ==============================================================================
+``F``      position (``X..X+2``), velocity (``V..V+2``), neighbour-list centre (``C..C+2``),
+           time ``T`` at which position and velocity hold, scheduled event time ``EVT``,
+           time ``TLAST`` of the last collision (the TC model)
+``IX``      collision counter ``COUNT``, the partner's counter when the event was scheduled
+           ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, cell list
+           links ``CELL, CNEXT, CPREV``, calendar links ``HPOS, QID, QNEXT, QPREV``,
+           neighbour count ``NNB``, ``EDGE`` (cell on a periodic face)
+``NB``     neighbour lists, one row per body, ``NB[i, :IX[i, NNB]]``
+``P``      float parameters (``P_*``); ``Q`` int parameters (``Q_*``)
+``G``      float accumulators (``G_*``); ``K`` int64 counters (``K_*``)
+=========  ==============================================================================
+
+Walls are numbered ``2 k`` (the low side of axis ``k``) and ``2 k + 1`` (the high side).
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "CELL",
+    "CNEXT",
+    "COUNT",
+    "CPREV",
+    "EDGE",
+    "EVT",
+    "G_LOST",
+    "G_MAX_OVERLAP",
+    "G_NOW",
+    "G_VIRIAL",
+    "G_WALL",
+    "HPOS",
+    "KIND",
+    "KIND_NLIST",
+    "KIND_NONE",
+    "KIND_PAIR",
+    "KIND_WALL",
+    "K_BUCKETED",
+    "K_BUFFERED",
+    "K_CUR",
+    "K_EVENTS",
+    "K_HEAP",
+    "K_NLIST",
+    "K_PAIRS",
+    "K_STALE",
+    "K_WALLS",
+    "NB_UNSCHEDULED",
+    "NF",
+    "NG",
+    "NI",
+    "NK",
+    "NNB",
+    "NP",
+    "NQ",
+    "PARTNER",
+    "PCOUNT",
+    "P_BLOCK",
+    "P_CUT",
+    "P_E",
+    "P_G",
+    "P_INV_H",
+    "P_L",
+    "P_MASS",
+    "P_RADIUS",
+    "P_SKIN",
+    "P_TC",
+    "QID",
+    "QNEXT",
+    "QPREV",
+    "Q_DIM",
+    "Q_NB",
+    "Q_NC",
+    "Q_PERIODIC",
+    "TLAST",
+    "C",
+    "T",
+    "V",
+    "X",
+]
+
+# F: float64 per body
+X = 0
+V = 3
+C = 6
+T = 9
+EVT = 10
+TLAST = 11
+NF = 12
+
+# IX: int32 per body
+COUNT = 0
+PCOUNT = 1
+PARTNER = 2
+KIND = 3
+CELL = 4
+CNEXT = 5
+CPREV = 6
+HPOS = 7  # >= 0: index in the heap; -1: in a list (QID); NB_UNSCHEDULED: no event
+QID = 8
+QNEXT = 9
+QPREV = 10
+NNB = 11
+EDGE = 12  # 1 if the body's cell touches a periodic face (only then are nearest images needed)
+NI = 13
+
+#: ``IX[i, HPOS]`` of a body with no event (it does not move and nothing is coming).
+NB_UNSCHEDULED = -2
+
+# event kinds
+KIND_NONE = 0
+KIND_PAIR = 1
+KIND_WALL = 2
+KIND_NLIST = 3
+
+# P: float parameters
+P_L = 0  # box sides, 3 values
+P_RADIUS = 3
+P_MASS = 4
+P_E = 5  # restitution
+P_TC = 6  # TC model: a collision within this time of a body's previous one is elastic
+P_G = 7  # gravity, along -y
+P_CUT = 8  # neighbour-list reach between list centres (shell times the diameter)
+P_SKIN = 9  # how far a body may drift from its list centre
+P_BLOCK = 10  # calendar: time span of one block
+P_INV_H = 11  # inverse cell sides, 3 values
+NP = 14
+
+# Q: int parameters
+Q_DIM = 0
+Q_PERIODIC = 1
+Q_NC = 2  # cells per axis, 3 values
+Q_NB = 5  # calendar: number of ring lists (the overflow list is one more)
+NQ = 6
+
+# G: float64 accumulators
+G_NOW = 0
+G_VIRIAL = 1  # sum over pair collisions of r_ij . delta p_i (the collision virial)
+G_MAX_OVERLAP = 2  # deepest overlap met at a contact, in length units
+G_LOST = 3  # kinetic energy taken by inelastic collisions
+G_WALL = 4  # momentum given to each wall, 6 values
+NG = 10
+
+# K: int64 counters and calendar state
+K_PAIRS = 0
+K_WALLS = 1
+K_EVENTS = 2
+K_NLIST = 3
+K_STALE = 4
+K_HEAP = 5  # bodies in the heap
+K_CUR = 6  # index of the current block
+K_BUCKETED = 7  # bodies in the ring lists (not the overflow)
+K_BUFFERED = 8  # events written into the event buffer
+NK = 9

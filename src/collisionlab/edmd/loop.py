@@ -1,0 +1,376 @@
+"""The compiled event loop: one call runs the simulation over a span of time.
+
+Each body carries its state at its own time ``F[i, T]`` and is moved to the present only when
+an event touches it (Smallenburg 2022, section 2.1). The loop takes the calendar's first
+event and handles it:
+
+* a **pair** collision with ``j``: if ``j`` has collided since the event was scheduled (its
+  counter moved on) the event is stale and ``i`` is only predicted again; otherwise both are
+  moved to the moment of contact and given the impulse along the line of centres,
+  ``dv_i = -(1 + e)/2 (b / |r|^2) r`` (equal masses, ``b = r . v_ij``; exactly energy
+  conserving for ``e = 1`` up to rounding since the projection divides by the same ``|r|^2``);
+* a **wall**: the velocity component across it is reversed and scaled by ``e``;
+* a **neighbour-list** event: ``i``'s list is built again around its present position;
+
+then the bodies touched get their next event. Inelastic collapse (infinitely many collisions
+in finite time when ``e < 1``) is stopped by the TC model of Luding and McNamara (Granular
+Matter 1, 113 (1998)): a collision of a body whose previous collision (with a body or a wall)
+was less than ``t_c`` ago is elastic. It changes only dense, fast-colliding clusters (a heap at
+rest keeps a residual jiggle of speed about ``g t_c``) and leaves dilute collisions untouched.
+
+The loop stops at the first event after ``t_end`` (status ``DONE``), when the event buffer is
+full (``BUFFER_FULL``: the caller writes it out and calls again), when ``max_events`` have been
+handled (``EVENT_LIMIT``), or when a neighbour list overflows (``LIST_FULL``: the caller widens
+the lists and starts again from the present).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from .calendar import calendar_clear, calendar_insert, calendar_next, calendar_pop, calendar_remove
+from .cells import build_all_lists, nearest_image, rebuild_list
+from .compile import jit, jit_inline
+from .layout import (
+    COUNT,
+    EDGE,
+    EVT,
+    G_LOST,
+    G_MAX_OVERLAP,
+    G_NOW,
+    G_VIRIAL,
+    G_WALL,
+    HPOS,
+    K_BUFFERED,
+    K_EVENTS,
+    K_NLIST,
+    K_PAIRS,
+    K_STALE,
+    K_WALLS,
+    KIND,
+    KIND_NLIST,
+    KIND_NONE,
+    KIND_PAIR,
+    KIND_WALL,
+    NB_UNSCHEDULED,
+    NNB,
+    P_E,
+    P_G,
+    P_L,
+    P_MASS,
+    P_RADIUS,
+    P_SKIN,
+    P_TC,
+    PARTNER,
+    PCOUNT,
+    Q_DIM,
+    Q_PERIODIC,
+    TLAST,
+    C,
+    T,
+    V,
+    X,
+)
+from .predict import ceiling_time, floor_time, leave_time, pair_time, wall_time
+
+__all__ = ["BUFFER_FULL", "DONE", "EVENT_LIMIT", "LIST_FULL", "max_overlap_now", "run_events", "start", "synchronize"]
+
+DONE = 0
+BUFFER_FULL = 1
+EVENT_LIMIT = 2
+LIST_FULL = 3
+
+
+@jit_inline
+def _advance(F: Any, i: int, now: float, g: float) -> None:
+    dt = now - F[i, T]
+    if dt != 0.0:
+        F[i, X] += F[i, V] * dt
+        F[i, X + 1] += (F[i, V + 1] - 0.5 * g * dt) * dt
+        F[i, X + 2] += F[i, V + 2] * dt
+        F[i, V + 1] -= g * dt
+        F[i, T] = now
+
+
+@jit
+def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
+    """Schedule body ``i``'s next event (``i`` holds at ``now``): the soonest of leaving its
+    list, hitting a wall, or hitting a neighbour."""
+    g = P[P_G]
+    xi = F[i, X]
+    yi = F[i, X + 1]
+    zi = F[i, X + 2]
+    vx = F[i, V]
+    vy = F[i, V + 1]
+    vz = F[i, V + 2]
+    tmin = leave_time(xi - F[i, C], yi - F[i, C + 1], zi - F[i, C + 2], vx, vy, vz, g, P[P_SKIN])
+    kind = KIND_NLIST
+    partner = -1
+    dim = Q[Q_DIM]
+    periodic = Q[Q_PERIODIC] != 0
+    if not periodic:
+        r = P[P_RADIUS]
+        for k in range(dim):
+            lo = r
+            hi = P[P_L + k] - r
+            x = F[i, X + k]
+            v = F[i, V + k]
+            if k == 1 and g > 0.0:
+                t_lo = floor_time(x, v, g, lo)
+                t_hi = ceiling_time(x, v, g, hi)
+                if t_lo < t_hi:
+                    t = t_lo
+                    wall = 2
+                else:
+                    t = t_hi
+                    wall = 3
+            else:
+                t = wall_time(x, v, lo, hi)
+                wall = 2 * k + (1 if v > 0.0 else 0)
+            if t < tmin:
+                tmin = t
+                kind = KIND_WALL
+                partner = wall
+    sigma = 2.0 * P[P_RADIUS]
+    sigma2 = sigma * sigma
+    wrap = periodic and IX[i, EDGE] != 0
+    half_g = 0.5 * g
+    for m in range(IX[i, NNB]):
+        j = NB[i, m]
+        dt = now - F[j, T]
+        dx = xi - (F[j, X] + F[j, V] * dt)
+        dz = zi - (F[j, X + 2] + F[j, V + 2] * dt)
+        if g == 0.0:  # the common case, without the parabola's terms
+            dy = yi - (F[j, X + 1] + F[j, V + 1] * dt)
+            dvy = vy - F[j, V + 1]
+        else:
+            dy = yi - (F[j, X + 1] + (F[j, V + 1] - half_g * dt) * dt)
+            dvy = vy - (F[j, V + 1] - g * dt)
+        if wrap:
+            dx = nearest_image(dx, P[P_L])
+            dy = nearest_image(dy, P[P_L + 1])
+            if dim == 3:
+                dz = nearest_image(dz, P[P_L + 2])
+        t = pair_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2, tmin)
+        if t < tmin:
+            tmin = t
+            kind = KIND_PAIR
+            partner = j
+    if tmin == math.inf:
+        IX[i, KIND] = KIND_NONE
+        IX[i, HPOS] = NB_UNSCHEDULED
+        F[i, EVT] = math.inf
+        return
+    F[i, EVT] = now + tmin
+    IX[i, KIND] = kind
+    IX[i, PARTNER] = partner
+    if kind == KIND_PAIR:
+        IX[i, PCOUNT] = IX[partner, COUNT]
+    calendar_insert(heap, lists, F, IX, P, Q, K, i)
+
+
+@jit_inline
+def _restitution(F: Any, P: Any, i: int, j: int, now: float) -> float:
+    """``e``, or 1 under the TC model when ``i`` (or ``j >= 0``) collided less than ``t_c`` ago."""
+    e: float = P[P_E]
+    if e == 1.0:
+        return e
+    tc = P[P_TC]
+    if now - F[i, TLAST] < tc or (j >= 0 and now - F[j, TLAST] < tc):
+        return 1.0
+    return e
+
+
+@jit_inline
+def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> None:
+    n = K[K_BUFFERED]
+    if n < buf.shape[0]:
+        buf[n, 0] = now
+        buf[n, 1] = a
+        buf[n, 2] = b
+        buf[n, 3] = impulse
+        K[K_BUFFERED] = n + 1
+
+
+@jit
+def _collide(
+    heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
+) -> None:
+    j = IX[i, PARTNER]
+    g = P[P_G]
+    _advance(F, i, now, g)
+    if IX[j, COUNT] != IX[i, PCOUNT]:
+        K[K_STALE] += 1
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+        return
+    _advance(F, j, now, g)
+    dx = F[i, X] - F[j, X]
+    dy = F[i, X + 1] - F[j, X + 1]
+    dz = F[i, X + 2] - F[j, X + 2]
+    if Q[Q_PERIODIC] != 0:
+        dx = nearest_image(dx, P[P_L])
+        dy = nearest_image(dy, P[P_L + 1])
+        dz = nearest_image(dz, P[P_L + 2]) if Q[Q_DIM] == 3 else dz
+    b = dx * (F[i, V] - F[j, V]) + dy * (F[i, V + 1] - F[j, V + 1]) + dz * (F[i, V + 2] - F[j, V + 2])
+    if b >= 0.0:  # already moving apart (rounding at a grazing contact): nothing to do
+        K[K_STALE] += 1
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+        return
+    r2 = dx * dx + dy * dy + dz * dz
+    e = _restitution(F, P, i, j, now)
+    f = 0.5 * (1.0 + e) * b / r2
+    F[i, V] -= f * dx
+    F[i, V + 1] -= f * dy
+    F[i, V + 2] -= f * dz
+    F[j, V] += f * dx
+    F[j, V + 1] += f * dy
+    F[j, V + 2] += f * dz
+    m = P[P_MASS]
+    G[G_VIRIAL] -= 0.5 * (1.0 + e) * m * b  # r . dp_i = -f m r^2, positive
+    G[G_LOST] += 0.25 * m * (1.0 - e * e) * b * b / r2  # (1 - e^2)/2 mu v_n^2, mu = m/2
+    r = math.sqrt(r2)
+    overlap = 2.0 * P[P_RADIUS] - r
+    if overlap > G[G_MAX_OVERLAP]:
+        G[G_MAX_OVERLAP] = overlap
+    F[i, TLAST] = now
+    F[j, TLAST] = now
+    IX[i, COUNT] += 1
+    IX[j, COUNT] += 1
+    K[K_PAIRS] += 1
+    if buf.shape[0] > 0:
+        _record(buf, K, now, i, j, -0.5 * (1.0 + e) * m * b / r)
+    calendar_remove(heap, lists, F, IX, Q, K, j)
+    _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+    _predict(heap, lists, F, IX, NB, P, Q, K, j, now)
+
+
+@jit
+def _bounce(
+    heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
+) -> None:
+    wall = IX[i, PARTNER]
+    _advance(F, i, now, P[P_G])
+    k = wall >> 1
+    high = (wall & 1) == 1
+    v = F[i, V + k]
+    g = P[P_G]
+    r = P[P_RADIUS]
+    floor = wall == 2 and g > 0.0
+    into = (v > 0.0) == high and v != 0.0
+    if not into and not (floor and F[i, X + 1] <= r):  # not moving into this wall (any more)
+        K[K_STALE] += 1
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+        return
+    e = _restitution(F, P, i, -1, now)
+    after = -e * v
+    if floor:
+        # The floor never sends a body back for less than t_c: the flight after a bounce lasts
+        # 2 v / g >= t_c. Without this a body pressed onto the floor by one above it could
+        # chatter at ever smaller speeds, elastically (TC), at an unbounded rate.
+        after = max(after, 0.5 * g * P[P_TC])
+    F[i, V + k] = after
+    impulse = P[P_MASS] * abs(after - v)
+    G[G_WALL + wall] += impulse
+    G[G_LOST] += 0.5 * P[P_MASS] * (v * v - after * after)
+    overlap = F[i, X + k] - (P[P_L + k] - r) if high else r - F[i, X + k]
+    if overlap > G[G_MAX_OVERLAP]:
+        G[G_MAX_OVERLAP] = overlap
+    F[i, TLAST] = now
+    IX[i, COUNT] += 1
+    K[K_WALLS] += 1
+    if buf.shape[0] > 0:
+        _record(buf, K, now, i, -1 - wall, impulse)
+    _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+
+
+@jit
+def run_events(
+    heap: Any,
+    lists: Any,
+    heads: Any,
+    F: Any,
+    IX: Any,
+    NB: Any,
+    P: Any,
+    Q: Any,
+    G: Any,
+    K: Any,
+    buf: Any,
+    t_end: float,
+    max_events: int,
+) -> int:
+    """Handle events in time order up to ``t_end`` (see the module's docstring for the status)."""
+    handled = 0
+    while True:
+        if buf.shape[0] > 0 and K[K_BUFFERED] >= buf.shape[0] - 1:
+            return BUFFER_FULL
+        if handled >= max_events:
+            return EVENT_LIMIT
+        i = calendar_next(heap, lists, F, IX, P, Q, K)
+        if i < 0 or F[i, EVT] > t_end:
+            G[G_NOW] = t_end
+            return DONE
+        now = F[i, EVT]
+        G[G_NOW] = now
+        calendar_pop(heap, F, IX, K)
+        handled += 1
+        K[K_EVENTS] += 1
+        kind = IX[i, KIND]
+        if kind == KIND_PAIR:
+            _collide(heap, lists, F, IX, NB, P, Q, G, K, buf, i, now)
+        elif kind == KIND_WALL:
+            _bounce(heap, lists, F, IX, NB, P, Q, G, K, buf, i, now)
+        else:
+            _advance(F, i, now, P[P_G])
+            K[K_NLIST] += 1
+            if not rebuild_list(F, IX, NB, P, Q, heads, i):
+                return LIST_FULL
+            _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+
+
+@jit
+def synchronize(F: Any, P: Any, now: float) -> None:
+    """Move every body to ``now`` (positions and velocities then all hold at one time)."""
+    g = P[P_G]
+    for i in range(F.shape[0]):
+        _advance(F, i, now, g)
+
+
+@jit
+def start(heap: Any, lists: Any, heads: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, now: float) -> bool:
+    """Bring every body to ``now``, build every list, and predict every event afresh (the
+    beginning of a run, or a restart after the neighbour lists were widened)."""
+    synchronize(F, P, now)
+    if not build_all_lists(F, IX, NB, P, Q, heads):
+        return False
+    calendar_clear(lists, IX, P, K, now)
+    for i in range(F.shape[0]):
+        _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
+    return True
+
+
+@jit
+def max_overlap_now(F: Any, IX: Any, NB: Any, P: Any, Q: Any) -> float:
+    """The deepest overlap of any pair of neighbours or any body and wall, bodies as they are
+    stored (call :func:`synchronize` first); negative: the smallest gap."""
+    sigma = 2.0 * P[P_RADIUS]
+    r = P[P_RADIUS]
+    periodic = Q[Q_PERIODIC] != 0
+    worst = -math.inf
+    for i in range(F.shape[0]):
+        for m in range(IX[i, NNB]):
+            j = NB[i, m]
+            if j < i:
+                continue
+            d2 = 0.0
+            for k in range(Q[Q_DIM]):
+                d = F[i, X + k] - F[j, X + k]
+                if periodic:
+                    d = nearest_image(d, P[P_L + k])
+                d2 += d * d
+            worst = max(worst, sigma - math.sqrt(d2))
+        if not periodic:
+            for k in range(Q[Q_DIM]):
+                worst = max(worst, r - F[i, X + k], F[i, X + k] - (P[P_L + k] - r))
+    return worst

@@ -1,0 +1,283 @@
+"""``EventDrivenWorld``: hard discs or spheres run exactly, event by event (the Python side).
+
+It owns the arrays (see :mod:`.layout`), checks its input, and calls the compiled loop
+(:func:`.loop.run_events`) once per span of time; only when events are being streamed, or a
+neighbour list must be widened, does control come back to Python in between.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InvalidInputError
+from ..validate import non_negative, positive
+from . import layout as L
+from .loop import BUFFER_FULL, LIST_FULL, max_overlap_now, run_events, start, synchronize
+
+__all__ = ["EventDrivenWorld", "EventSink", "Tally"]
+
+#: Receives a block of events, one row each: time, body a, body b (or ``-1 - wall``), impulse.
+EventSink = Callable[[NDArray[np.float64]], None]
+
+#: Neighbour-list reach in diameters (Smallenburg's ``1 + alpha``; he uses 1.5, 1.7 was faster here at
+#: packing 0.25 (fewer list rebuilds) and no slower at 0.45: bench/bench_edmd.py).
+SHELL = 1.7
+#: Calendar: scheduled events per block of the near-future heap, and how many typical event
+#: times the ring of lists covers before the overflow list (tuned in bench/bench_edmd.py).
+EVENTS_PER_BLOCK = 8.0
+HORIZON = 4.0
+#: Events held before a streamed block is handed to the sink.
+BUFFER_EVENTS = 1 << 16
+
+
+@dataclass(frozen=True)
+class Tally:
+    """What the loop counted since the world was made."""
+
+    time: float
+    pair_collisions: int
+    wall_collisions: int
+    events: int
+    list_rebuilds: int
+    stale_events: int
+    virial: float
+    wall_momentum: tuple[float, ...]
+    max_contact_overlap: float
+    energy_lost: float
+
+
+def _morton_order(pos: NDArray[np.float64], cell: float) -> NDArray[np.int64]:
+    """Indices that sort ``pos`` by the Morton code of cells of side ``cell`` (ties by position).
+
+    >>> _morton_order(np.array([[3.0, 3.0], [0.0, 0.0], [3.0, 0.0], [0.0, 3.0]]), 2.0).tolist()
+    [1, 2, 3, 0]
+    """
+    n, dim = pos.shape
+    cells = np.floor((pos - pos.min(axis=0)) / cell).astype(np.uint64)
+    code = np.zeros(n, dtype=np.uint64)
+    for bit in range(63 // dim):
+        for k in range(dim):
+            code |= ((cells[:, k] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(bit * dim + k)
+    keys = [pos[:, k] for k in reversed(range(dim))]
+    return np.lexsort((*keys, code)).astype(np.int64)
+
+
+class EventDrivenWorld:
+    """N equal hard balls (discs in 2D, spheres in 3D) in the box ``[0, sides]``, periodic or
+    walled, under optional gravity ``g`` along ``-y`` (walls only), with restitution ``e`` and the
+    TC model's ``tc`` (Luding and McNamara 1998; see :mod:`.loop`).
+
+    >>> w = EventDrivenWorld([[2.0, 5.0], [6.0, 5.0]], [[1.0, 0.0], [-1.0, 0.0]], sides=[10.0, 10.0],
+    ...                      periodic=False)
+    >>> w.run(1.5)                                   # they meet at t = 1, when the gap of 2 is closed
+    >>> w.velocities.tolist(), w.tally().pair_collisions
+    ([[-1.0, 0.0], [1.0, 0.0]], 1)
+    """
+
+    def __init__(
+        self,
+        positions: object,
+        velocities: object,
+        sides: object,
+        *,
+        radius: float = 1.0,
+        mass: float = 1.0,
+        restitution: float = 1.0,
+        gravity: float = 0.0,
+        tc: float = 0.0,
+        periodic: bool = True,
+    ) -> None:
+        pos = np.array(positions, dtype=np.float64)
+        vel = np.array(velocities, dtype=np.float64)
+        if pos.ndim != 2 or pos.shape[1] not in (2, 3) or pos.shape[0] < 1:
+            raise InvalidInputError("positions", "must be N rows of 2 or 3 numbers", got=pos.shape)
+        if vel.shape != pos.shape:
+            raise InvalidInputError("velocities", f"must have the shape of positions {pos.shape}", got=vel.shape)
+        n, dim = pos.shape
+        box = np.array(sides, dtype=np.float64).reshape(-1)
+        if box.shape != (dim,) or not np.all(np.isfinite(box)) or np.any(box <= 0):
+            raise InvalidInputError("sides", f"must be {dim} numbers > 0", got=box.tolist())
+        if not (np.all(np.isfinite(pos)) and np.all(np.isfinite(vel))):
+            raise InvalidInputError("positions", "positions and velocities must be finite")
+        self.radius = positive(radius, "radius")
+        self.mass = positive(mass, "mass")
+        self.restitution = non_negative(restitution, "restitution")
+        self.gravity = non_negative(gravity, "gravity")
+        self.tc = non_negative(tc, "tc")
+        self.periodic = bool(periodic)
+        if self.gravity > 0 and self.periodic:
+            raise InvalidInputError("gravity", "needs walls (a periodic box has no floor)")
+        if self.gravity > 0 and self.tc <= 0:
+            raise InvalidInputError("tc", "must be > 0 under gravity (the shortest flight off the floor)")
+        sigma = 2.0 * self.radius
+        cut = SHELL * sigma
+        if self.periodic and np.any(box < 4.0 * sigma):
+            raise InvalidInputError("sides", "a periodic box must be at least 4 diameters wide", got=box.tolist())
+        if self.periodic:
+            pos = pos - np.floor(pos / box) * box
+        elif np.any(pos < self.radius) or np.any(pos > box - self.radius):
+            raise InvalidInputError("positions", "every ball must lie inside the walls")
+        self.n = n
+        self.dim = dim
+        self.sides = box
+        self.F = np.zeros((n, L.NF))
+        # Bodies are stored in Morton (Z-curve) order of their starting cells, so that neighbours
+        # sit near each other in memory (a million bodies do not fit in any cache); ``order[k]`` is
+        # the caller's index of stored body k. The key depends on positions only, never on the
+        # caller's numbering, so a permutation of the input is stored the same way.
+        self.order = _morton_order(pos, cut)
+        self.F[:, L.X : L.X + dim] = pos[self.order]
+        self.F[:, L.V : L.V + dim] = vel[self.order]
+        self.F[:, L.TLAST] = -math.inf
+        self.IX = np.zeros((n, L.NI), dtype=np.int32)
+        self.P = np.zeros(L.NP)
+        self.Q = np.zeros(L.NQ, dtype=np.int64)
+        self.G = np.zeros(L.NG)
+        self.K = np.zeros(L.NK, dtype=np.int64)
+        self.P[L.P_L : L.P_L + 3] = 1.0
+        self.P[L.P_L : L.P_L + dim] = box
+        self.P[L.P_RADIUS] = self.radius
+        self.P[L.P_MASS] = self.mass
+        self.P[L.P_E] = self.restitution
+        self.P[L.P_TC] = self.tc
+        self.P[L.P_G] = self.gravity
+        self.P[L.P_CUT] = cut
+        self.P[L.P_SKIN] = 0.5 * (cut - sigma)
+        self.Q[L.Q_DIM] = dim
+        self.Q[L.Q_PERIODIC] = int(self.periodic)
+        self.Q[L.Q_NC : L.Q_NC + 3] = 1
+        # Cells at least one reach wide; no more than about 2 per body (a sparse box).
+        cells = np.maximum(1, np.floor(box / cut)).astype(np.int64)
+        while int(np.prod(cells)) > 2 * n + 27 and np.any(cells > 1):
+            cells = np.maximum(1, (cells * 0.8).astype(np.int64))
+        self.Q[L.Q_NC : L.Q_NC + dim] = cells
+        self.P[L.P_INV_H : L.P_INV_H + dim] = cells / box
+        self.heads = np.full(int(np.prod(cells)), -1, dtype=np.int32)
+        self.heap = np.zeros(n, dtype=np.int32)
+        neighbours = 16 if dim == 2 else 32
+        self.NB = np.zeros((n, neighbours), dtype=np.int32)
+        self.P[L.P_BLOCK] = 1.0
+        self.Q[L.Q_NB] = 1
+        self.lists = np.full(2, -1, dtype=np.int32)
+        self._start()
+        self._tune_calendar()
+        if self.max_overlap() > 0.0:
+            raise InvalidInputError("positions", "balls must not overlap at the start")
+        self.G[L.G_MAX_OVERLAP] = 0.0
+
+    def _start(self) -> None:
+        while not start(self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.K, self.time):
+            self.NB = np.zeros((self.n, 2 * self.NB.shape[1]), dtype=np.int32)
+
+    def _tune_calendar(self) -> None:
+        """Blocks of about ``EVENTS_PER_BLOCK`` events, a ring covering ``HORIZON`` typical
+        times between a body's events (Smallenburg's advice: tens to hundreds per block)."""
+        ahead = self.F[:, L.EVT] - self.time
+        ahead = ahead[np.isfinite(ahead) & (ahead > 0)]
+        typical = float(np.median(ahead)) if ahead.size else 1.0
+        block = EVENTS_PER_BLOCK * typical / self.n
+        self.P[L.P_BLOCK] = block
+        self.Q[L.Q_NB] = max(1, math.ceil(HORIZON * typical / block))
+        self.lists = np.full(int(self.Q[L.Q_NB]) + 1, -1, dtype=np.int32)
+        self._start()
+
+    @property
+    def time(self) -> float:
+        return float(self.G[L.G_NOW])
+
+    def run(self, until: float, sink: EventSink | None = None, max_events: int | None = None) -> None:
+        """Handle every event up to time ``until`` (or stop after ``max_events``), then bring
+        every body to that time. ``sink`` receives the events in blocks as they happen."""
+        limit = np.iinfo(np.int64).max if max_events is None else int(max_events)
+        buffer = np.zeros((BUFFER_EVENTS if sink is not None else 0, 4))
+        while True:
+            before = int(self.K[L.K_EVENTS])
+            status = run_events(
+                self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K,
+                buffer, float(until), limit,
+            )  # fmt: skip
+            limit -= int(self.K[L.K_EVENTS]) - before
+            if sink is not None and self.K[L.K_BUFFERED] > 0:
+                block = buffer[: int(self.K[L.K_BUFFERED])]
+                a = block[:, 1].astype(np.int64)
+                b = block[:, 2].astype(np.int64)
+                block[:, 1] = self.order[a]
+                block[:, 2] = np.where(b >= 0, self.order[np.maximum(b, 0)], b)
+                sink(block)
+                self.K[L.K_BUFFERED] = 0
+            if status == BUFFER_FULL:
+                continue
+            if status == LIST_FULL:
+                self.NB = np.zeros((self.n, 2 * self.NB.shape[1]), dtype=np.int32)
+                self._start()
+                continue
+            break  # DONE or EVENT_LIMIT
+        synchronize(self.F, self.P, self.time)
+
+    @property
+    def positions(self) -> NDArray[np.float64]:
+        """Centres at :attr:`time` (a copy; inside the box also with periodic walls)."""
+        synchronize(self.F, self.P, self.time)
+        pos = np.empty((self.n, self.dim))
+        pos[self.order] = self.F[:, L.X : L.X + self.dim]
+        if self.periodic:
+            pos -= np.floor(pos / self.sides) * self.sides
+        return pos
+
+    @property
+    def velocities(self) -> NDArray[np.float64]:
+        synchronize(self.F, self.P, self.time)
+        vel = np.empty((self.n, self.dim))
+        vel[self.order] = self.F[:, L.V : L.V + self.dim]
+        return vel
+
+    def kinetic_energy(self) -> float:
+        v = self.velocities
+        return 0.5 * self.mass * float(np.einsum("ij,ij->", v, v))
+
+    def potential_energy(self) -> float:
+        """``m g y`` summed (height measured from the floor of the box)."""
+        if self.gravity == 0.0:
+            return 0.0
+        return self.mass * self.gravity * float(self.positions[:, 1].sum())
+
+    def max_overlap(self) -> float:
+        """Deepest overlap now (pairs and walls; negative: the smallest gap), length units."""
+        synchronize(self.F, self.P, self.time)
+        return float(max_overlap_now(self.F, self.IX, self.NB, self.P, self.Q))
+
+    @property
+    def nbytes(self) -> int:
+        arrays = (
+            self.F,
+            self.IX,
+            self.NB,
+            self.P,
+            self.Q,
+            self.G,
+            self.K,
+            self.heads,
+            self.heap,
+            self.lists,
+            self.order,
+        )
+        return sum(a.nbytes for a in arrays)
+
+    def tally(self) -> Tally:
+        return Tally(
+            time=self.time,
+            pair_collisions=int(self.K[L.K_PAIRS]),
+            wall_collisions=int(self.K[L.K_WALLS]),
+            events=int(self.K[L.K_EVENTS]),
+            list_rebuilds=int(self.K[L.K_NLIST]),
+            stale_events=int(self.K[L.K_STALE]),
+            virial=float(self.G[L.G_VIRIAL]),
+            wall_momentum=tuple(float(x) for x in self.G[L.G_WALL : L.G_WALL + 2 * self.dim]),
+            max_contact_overlap=float(self.G[L.G_MAX_OVERLAP]),
+            energy_lost=float(self.G[L.G_LOST]),
+        )
