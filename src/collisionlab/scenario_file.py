@@ -21,7 +21,7 @@ from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive
 from .vector import Vector3D, as_vector
 
-__all__ = ["ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
+__all__ = ["SCENARIO_FIELDS", "ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
 
 T = TypeVar("T")
 
@@ -30,6 +30,12 @@ _BODY_KEYS = {"name", "shape", "position", "radius", "size", "velocity", "mass",
 _STATIC_KEYS = {"name", "shape", "point", "normal", "points", "direction", "position", "size", "restitution"}
 _BODY_SHAPES = ("circle", "sphere", "aabb")
 _STATIC_SHAPES = ("line", "plane", "aabb")
+#: The keys each table of a scenario file accepts (``simulation``, each ``body``, each ``static``).
+SCENARIO_FIELDS: Mapping[str, frozenset[str]] = {
+    "simulation": frozenset(_SIMULATION_KEYS),
+    "body": frozenset(_BODY_KEYS),
+    "static": frozenset(_STATIC_KEYS),
+}
 
 
 class ScenarioError(InvalidInputError):

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 from .. import __version__
 from ..errors import CollisionLabError, InvalidInputError
 from ..scenario_file import ScenarioError
-from . import gas_command
+from . import gas_command, sweep_command
 from .menu import run_menu
 from .run_command import add_run_parsers
 from .streams import Streams
@@ -66,6 +66,7 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     menu.set_defaults(func=lambda args, streams: run_menu(streams))
     add_run_parsers(sub)
     gas_command.add_parser(sub)
+    sweep_command.add_parser(sub)
     return parser
 
 
