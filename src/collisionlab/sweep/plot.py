@@ -65,9 +65,10 @@ def save_sweep_plot(path: str, spec: SweepSpec, columns: Sequence[Column], rows:
     axes = figure.add_subplot()
     groups = _series(rows, x, others)
     note = f"{len(groups) - MAX_SERIES} series of {len(groups)} not drawn" if len(groups) > MAX_SERIES else ""
-    missing_x: list[float] = []
+    missing: list[tuple[list[float], str, str]] = []
     for number, (label_values, members) in enumerate(list(groups.items())[:MAX_SERIES]):
         by_x: dict[float, list[float]] = {}
+        missing_x: list[float] = []
         for row in members:
             value = row[y]
             if row["error"]:
@@ -84,9 +85,11 @@ def save_sweep_plot(path: str, spec: SweepSpec, columns: Sequence[Column], rows:
         for v in xs:
             axes.plot([v] * len(by_x[v]), by_x[v], ".", color=color, alpha=0.3, markersize=4)
         axes.errorbar(xs, means, yerr=spreads, fmt="o-", color=color, capsize=3, label=f"{label} (mean ± sd)")
-    if missing_x:
-        bottom = axes.get_ylim()[0]
-        axes.plot(missing_x, [bottom] * len(missing_x), "x", color="crimson", label=f"no {y} (e.g. no collision)")
+        if missing_x:
+            missing.append((missing_x, color, label))
+    bottom = axes.get_ylim()[0]
+    for missing_x, color, label in missing:
+        axes.plot(missing_x, [bottom] * len(missing_x), "x", color=color, markersize=9, label=f"{label}: no {y}")
     if spec.kind == "gas" and y == "compressibility" and x == "gas.fraction":
         dim = int(spec.base["dim"])
         xs_all = sorted({float(row[x]) for row in rows})
