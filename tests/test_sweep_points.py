@@ -4,6 +4,7 @@ an invalid point's row carries its error; the gas's compressibility against Carn
 from __future__ import annotations
 
 import tomllib
+from pathlib import Path
 
 import pytest
 
@@ -78,7 +79,7 @@ steps = 100
     ],
 )
 def test_an_invalid_point_reports_its_error_in_its_row(data: dict[str, object], error: str) -> None:
-    base = tomllib.loads(open(example("sphere-plane")).read())
+    base = tomllib.loads(Path(example("sphere-plane")).read_text())
     base["simulation"].update(data["simulation"])  # type: ignore[index]
     row = run_point(Task(4, 1, 7, "scenario", base, ("collisions", "momentum_end")))
     assert (row["point"], row["replica"], row["seed"]) == (4, 1, 7)

@@ -56,7 +56,10 @@ metrics = ["collisions", "momentum_end"]
 @pytest.mark.parametrize(
     ("table", "expected"),
     [
-        ({"start": 0.1, "stop": 0.5, "step": 0.1}, (0.1, 0.2, 0.3, 0.4, 0.5)),  # 0.1 * 3 is 0.3, not 0.30000000000000004
+        (
+            {"start": 0.1, "stop": 0.5, "step": 0.1},
+            (0.1, 0.2, 0.3, 0.4, 0.5),
+        ),  # 0.1 * 3 is 0.3, not 0.30000000000000004
         ({"start": 0.1, "stop": 0.45, "step": 0.1}, (0.1, 0.2, 0.3, 0.4)),  # stop not reached: not included
         ({"start": 1, "stop": 0, "step": -0.5}, (1.0, 0.5, 0.0)),  # downwards
         ({"start": 0, "stop": 1, "num": 5}, (0.0, 0.25, 0.5, 0.75, 1.0)),
@@ -96,7 +99,9 @@ metrics = ["energy_end"]
 
 def test_the_gas_takes_its_defaults_from_collisionlab_gas() -> None:
     spec = parse_sweep(
-        tomllib.loads('[sweep]\nmetrics = ["collisions"]\n[sweep.gas]\nn = 50\n[sweep.parameters]\n"gas.fraction" = [0.1]')
+        tomllib.loads(
+            '[sweep]\nmetrics = ["collisions"]\n[sweep.gas]\nn = 50\n[sweep.parameters]\n"gas.fraction" = [0.1]'
+        )
     )
     assert spec.kind == "gas" and spec.base["n"] == 50 and spec.base["dim"] == 2 and spec.base["steps"] == 1000
 
@@ -111,12 +116,19 @@ def test_seeds_depend_on_the_point_not_on_its_place() -> None:
 
 
 def test_the_shipped_sweeps_read() -> None:
-    for name, kind, rows in (("sweep-dt", "scenario", 40), ("sweep-restitution", "scenario", 7), ("sweep-eos", "gas", 27)):
+    for name, kind, rows in (
+        ("sweep-dt", "scenario", 40),
+        ("sweep-restitution", "scenario", 7),
+        ("sweep-eos", "gas", 27),
+    ):
         spec = load_sweep(EXAMPLES / f"{name}.toml")
         assert spec.kind == kind and len(spec.tasks()) == rows
 
 
 BASE = '[sweep]\ndemo = "sphere-plane"\nmetrics = ["collisions"]\n[sweep.parameters]\n"simulation.dt" = [0.01]\n'
+ZIPPED = BASE.replace("[0.01]", '[0, 1]\n"simulation.mode" = ["euler"]').replace(
+    "[sweep]\n", '[sweep]\ncombine = "zip"\n'
+)
 
 
 @pytest.mark.parametrize(
@@ -147,8 +159,7 @@ BASE = '[sweep]\ndemo = "sphere-plane"\nmetrics = ["collisions"]\n[sweep.paramet
         (BASE.replace("[0.01]", "{start = 0, stop = 1, num = 3, by = 2}"), "simulation.dt.by", "unknown key"),
         (BASE.replace("[0.01]", "{start = 0, stop = inf, num = 3}"), "simulation.dt.stop", "finite number"),
         (BASE.replace("[0.01]", "[nan]"), "simulation.dt[0]", "finite"),
-        (BASE.replace("[0.01]", "[0, 1]\n\"simulation.mode\" = [\"euler\"]").replace("[sweep]\n", '[sweep]\ncombine = "zip"\n'),
-         "sweep.combine", "as many"),
+        (ZIPPED, "sweep.combine", "as many"),
         (BASE.replace("[sweep]\n", '[sweep]\ncombine = "cross"\n'), "sweep.combine", "'grid' or 'zip'"),
         (BASE + "[sweep.plot]\nx = \"simulation.steps\"\n", "sweep.plot.x", "varied parameter"),
         (BASE + "[sweep.plot]\ny = \"energy_end\"\n", "sweep.plot.y", "one of the metrics"),

@@ -86,7 +86,7 @@ def _table(rows: list[dict[str, Any]], columns: list[tuple[str, str]]) -> str:
     frame = frame.astype({name: "Int64" for name, kind in columns if kind == "int"})  # whole numbers stay whole
     if not frame["error"].astype(bool).any():
         frame = frame.drop(columns="error")
-    text = frame.to_string(index=False, na_rep="-")
+    text: str = frame.to_string(index=False, na_rep="-")
     return text + (f"\n... {len(rows) - _PRINT_ROWS} more rows in the files" if len(rows) > _PRINT_ROWS else "")
 
 

@@ -28,7 +28,15 @@ from .store import Column, ResultStore, column_type
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["CONNECT_SECONDS", "RESUBMITS", "SweepOutcome", "dask_client", "machine_workers", "run_sweep", "table_columns"]
+__all__ = [
+    "CONNECT_SECONDS",
+    "RESUBMITS",
+    "SweepOutcome",
+    "dask_client",
+    "machine_workers",
+    "run_sweep",
+    "table_columns",
+]
 
 #: Seconds to wait for a scheduler given by address before giving up.
 CONNECT_SECONDS = 10.0
@@ -64,9 +72,8 @@ def machine_workers() -> int:
 def table_columns(spec: SweepSpec) -> list[Column]:
     """The table's columns: point, replica, seed, each parameter, error, then the metrics'."""
     parameters = [(p.path, column_type(p.values)) for p in spec.parameters]
-    return [("point", "int"), ("replica", "int"), ("seed", "int"), *parameters, ("error", "str")] + metric_columns(
-        spec.kind, spec.metrics
-    )
+    metrics = metric_columns(spec.kind, spec.metrics)
+    return [("point", "int"), ("replica", "int"), ("seed", "int"), *parameters, ("error", "str"), *metrics]
 
 
 def _cell(value: Value, kind: str) -> object:

@@ -159,7 +159,9 @@ def expand_range(source: str, table: Mapping[str, Any], field: str) -> tuple[flo
     """
     for key in table:
         if key not in _RANGE_KEYS:
-            raise SweepError(source, f"{field}.{key}", "unknown key; a range is {start, stop, step} or {start, stop, num}")
+            raise SweepError(
+                source, f"{field}.{key}", "unknown key; a range is {start, stop, step} or {start, stop, num}"
+            )
     if "start" not in table or "stop" not in table or ("step" in table) == ("num" in table):
         raise SweepError(source, field, "a range needs start, stop and one of step or num")
     start, stop = _number(source, table["start"], f"{field}.start"), _number(source, table["stop"], f"{field}.stop")
@@ -211,7 +213,9 @@ def _find_table(source: str, data: Mapping[str, Any], section: str, name: str, f
     raise SweepError(source, field, f"the base has no {section} named {name!r} (it has: {have})")
 
 
-def _split(source: str, kind: str, data: Mapping[str, Any], path: str, field: str) -> tuple[list[str | int], int | None]:
+def _split(
+    source: str, kind: str, data: Mapping[str, Any], path: str, field: str
+) -> tuple[list[str | int], int | None]:
     """The keys leading to the field in the base's data, and the vector component (or None)."""
     parts = path.split(".")
     component = None
@@ -219,8 +223,10 @@ def _split(source: str, kind: str, data: Mapping[str, Any], path: str, field: st
         component = _COMPONENTS[parts.pop()]
     if kind == "gas":
         if parts[0] != "gas" or len(parts) != 2 or parts[1] not in GAS_DEFAULTS or component is not None:
-            raise SweepError(source, field, f"the base is the gas: expected gas.KEY, KEY one of {', '.join(GAS_DEFAULTS)}")
-        return parts, None
+            raise SweepError(
+                source, field, f"the base is the gas: expected gas.KEY, KEY one of {', '.join(GAS_DEFAULTS)}"
+            )
+        return list(parts), None
     forms = "simulation.KEY, body.NAME.KEY or static.NAME.KEY (with .x, .y or .z for one component)"
     keys: list[str | int]
     if parts[0] == "simulation" and len(parts) == 2:
@@ -290,7 +296,9 @@ def _base(source: str, sweep: Mapping[str, Any], folder: Path) -> tuple[str, dic
         for key in table:
             if key not in GAS_DEFAULTS:
                 hint = " (each row's seed is derived from sweep.seed)" if key == "seed" else ""
-                raise SweepError(source, f"sweep.gas.{key}", f"unknown key; expected one of {', '.join(GAS_DEFAULTS)}{hint}")
+                raise SweepError(
+                    source, f"sweep.gas.{key}", f"unknown key; expected one of {', '.join(GAS_DEFAULTS)}{hint}"
+                )
         return "gas", {**GAS_DEFAULTS, **table}
     if given[0] == "demo":
         name = sweep["demo"]
@@ -362,7 +370,9 @@ def parse_sweep(data: Mapping[str, Any], source: str = "<sweep>", folder: Path =
     try:
         check_base(kind, base)
     except InvalidInputError as error:
-        raise SweepError(source, f"sweep.{'gas' if kind == 'gas' else 'scenario'}", f"the base is invalid: {error}") from None
+        raise SweepError(
+            source, f"sweep.{'gas' if kind == 'gas' else 'scenario'}", f"the base is invalid: {error}"
+        ) from None
     table = sweep.get("parameters")
     if not isinstance(table, Mapping) or not table:
         raise SweepError(source, "sweep.parameters", 'needs at least one parameter, as "PATH" = [values]')

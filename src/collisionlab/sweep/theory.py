@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["carnahan_starling", "compressibility_from_collisions", "henderson", "hard_ball_compressibility"]
+__all__ = ["carnahan_starling", "compressibility_from_collisions", "hard_ball_compressibility", "henderson"]
 
 
 def carnahan_starling(phi: float) -> float:
