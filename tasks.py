@@ -4,6 +4,7 @@
     python3 tasks.py run     # a virtual environment in .venv, then the lab's four demos
     python3 tasks.py test    # the same with the test tools, then ruff, mypy and pytest
     python3 tasks.py bench   # the many-body benchmark against pymunk (bench/README.md)
+    python3 tasks.py bench-sweep   # sweeps on Dask: 2 workers against 1, overhead per point
 
 Each step is printed before it runs; the first failure stops with its exit status.
 """
@@ -65,7 +66,12 @@ def bench() -> None:
     sh(PYTHON, "bench/bench_gas.py", *sys.argv[2:])
 
 
-TASKS = {"run": run, "test": test, "bench": bench}
+def bench_sweep() -> None:
+    setup("dev")
+    sh(PYTHON, "bench/bench_sweep.py", *sys.argv[2:])
+
+
+TASKS = {"run": run, "test": test, "bench": bench, "bench-sweep": bench_sweep}
 
 if __name__ == "__main__":
     if len(sys.argv) < 2 or sys.argv[1] not in TASKS:

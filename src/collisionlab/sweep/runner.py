@@ -123,18 +123,18 @@ def run_sweep(spec: SweepSpec, store: ResultStore, client: Client, progress: Pro
     began = time.monotonic()
     written = lost = 0
 
-    def submit(task: Task, attempt: int) -> Any:
-        key = f"collisionlab-sweep-{run_id}-{task.point}-{task.replica}-{attempt}"
-        return client.submit(run_point, task, key=key, pure=False)
+    def key(task: Task, attempt: int) -> str:
+        return f"collisionlab-sweep-{run_id}-{task.point}-{task.replica}-{attempt}"
 
-    try:
-        futures = {submit(task, 0): (task, 0) for task in tasks}
+    try:  # one batch (client.map): submitting task by task costs several ms a task
+        submitted = client.map(run_point, tasks, key=[key(task, 0) for task in tasks], pure=False) if tasks else []
+        futures = {future: (task, 0) for future, task in zip(submitted, tasks, strict=True)}
         pending = as_completed(list(futures))
         for future in pending:
             task, attempt = futures.pop(future)
             if future.status != "finished":  # its workers died (KilledWorker) or it was lost
                 if attempt < RESUBMITS:
-                    again = submit(task, attempt + 1)
+                    again = client.submit(run_point, task, key=key(task, attempt + 1), pure=False)
                     futures[again] = (task, attempt + 1)
                     pending.add(again)
                 else:
