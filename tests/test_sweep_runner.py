@@ -1,4 +1,4 @@
-"""Sweeps on a local Dask cluster: the same table with 1 and 2 workers, equal to lone runs; an
+"""Sweeps on a local Dask cluster: the same table with 1, 2 and 4 workers, equal to lone runs; an
 invalid point does not stop the sweep; Ctrl-C then --resume finishes without running a row twice."""
 
 from __future__ import annotations
@@ -30,17 +30,17 @@ def table_without_wall_time(path: Path) -> list[dict[str, object]]:
     return pq.read_table(path).drop_columns(["wall_time"]).to_pylist()
 
 
-def test_one_and_two_workers_give_the_same_table_and_it_equals_lone_runs(tmp_path: Path) -> None:
+def test_one_two_and_four_workers_give_the_same_table_and_it_equals_lone_runs(tmp_path: Path) -> None:
     sweep = tmp_path / "gas.toml"
     sweep.write_text(GAS)
     tables = []
-    for workers in ("1", "2"):
+    for workers in ("1", "2", "4"):
         result = run_cli(["sweep", str(sweep), "--workers", workers, "--output", str(tmp_path / f"w{workers}")])
         assert result.status == 0, result.err
         assert f"on {workers} worker" in result.err and "4 rows report an error" in result.err
         tables.append(table_without_wall_time(tmp_path / f"w{workers}.parquet"))
         assert (tmp_path / f"w{workers}.csv").read_bytes() != b""
-    assert tables[0] == tables[1]  # every bit of every row
+    assert tables[0] == tables[1] == tables[2]  # every bit of every row
     rows = tables[0]
     assert [(r["point"], r["replica"]) for r in rows] == [(p, r) for p in range(4) for r in range(2)]
     bad = [r for r in rows if r["gas.n"] == 0]
