@@ -72,10 +72,13 @@ class SweepError(InvalidInputError):
 
 @dataclass(frozen=True)
 class Parameter:
-    """One varied field: its dotted ``path`` and its values, in order."""
+    """One varied field: its dotted ``path``, its values in order, and where it is in the base's
+    data: the ``keys`` leading to it (a body by its index) and the vector ``component`` (or None)."""
 
     path: str
     values: tuple[Value, ...]
+    keys: tuple[str | int, ...] = ()
+    component: int | None = None
 
 
 @dataclass(frozen=True)
@@ -115,7 +118,7 @@ class SweepSpec:
                 replica=replica,
                 seed=derived_seed(self.seed, point.values, replica),
                 kind=self.kind,
-                data=apply_point(self.kind, self.base, point.values),
+                data=apply_point(self.base, self.parameters, point.values),
                 metrics=self.metrics,
             )
             for point in self._points
@@ -213,9 +216,9 @@ def _find_table(source: str, data: Mapping[str, Any], section: str, name: str, f
     raise SweepError(source, field, f"the base has no {section} named {name!r} (it has: {have})")
 
 
-def _split(
+def _target(
     source: str, kind: str, data: Mapping[str, Any], path: str, field: str
-) -> tuple[list[str | int], int | None]:
+) -> tuple[tuple[str | int, ...], int | None]:
     """The keys leading to the field in the base's data, and the vector component (or None)."""
     parts = path.split(".")
     component = None
@@ -226,7 +229,7 @@ def _split(
             raise SweepError(
                 source, field, f"the base is the gas: expected gas.KEY, KEY one of {', '.join(GAS_DEFAULTS)}"
             )
-        return list(parts), None
+        return (parts[1],), None
     forms = "simulation.KEY, body.NAME.KEY or static.NAME.KEY (with .x, .y or .z for one component)"
     keys: list[str | int]
     if parts[0] == "simulation" and len(parts) == 2:
@@ -240,7 +243,7 @@ def _split(
         raise SweepError(source, field, f"unknown field {parts[-1]!r}; expected one of {', '.join(sorted(allowed))}")
     if component is not None and not isinstance(_get(data, keys), list):
         raise SweepError(source, field, f"needs {'.'.join(parts)} given as a vector in the base to vary one component")
-    return keys, component
+    return tuple(keys), component
 
 
 def _get(data: Any, keys: Sequence[str | int]) -> Any:
@@ -252,30 +255,30 @@ def _get(data: Any, keys: Sequence[str | int]) -> Any:
     return data
 
 
-def apply_point(kind: str, base: Mapping[str, Any], values: Mapping[str, Value]) -> dict[str, Any]:
-    """A copy of the base's data with the point's values set at their paths (paths already checked).
+def apply_point(
+    base: Mapping[str, Any], parameters: Sequence[Parameter], values: Mapping[str, Value]
+) -> dict[str, Any]:
+    """A copy of the base's data with the point's values set where its parameters point.
 
-    >>> apply_point("gas", {"n": 10, "fraction": 0.2}, {"gas.fraction": 0.3})
+    >>> fraction = Parameter("gas.fraction", (0.3,), ("fraction",))
+    >>> apply_point({"n": 10, "fraction": 0.2}, [fraction], {"gas.fraction": 0.3})
     {'n': 10, 'fraction': 0.3}
+    >>> speed = Parameter("body.ball.velocity.y", (-4,), ("body", 0, "velocity"), component=1)
+    >>> apply_point({"body": [{"velocity": [1, -2, 0]}]}, [speed], {"body.ball.velocity.y": -4})
+    {'body': [{'velocity': [1, -4, 0]}]}
     """
     data = copy.deepcopy(dict(base))
-    for path, value in values.items():
-        parts = path.split(".")
-        component = _COMPONENTS[parts.pop()] if len(parts) > 2 and parts[-1] in _COMPONENTS else None
-        if kind == "gas":
-            data[parts[1]] = value
-            continue
-        target: Any = data.setdefault("simulation", {}) if parts[0] == "simulation" else None
-        if target is None:
-            tables = data[parts[0]]
-            names = [t.get("name", f"{parts[0]}{i + 1}") for i, t in enumerate(tables)]
-            target = tables[names.index(parts[1]) if parts[1] in names else int(parts[1])]
-        if component is None:
-            target[parts[-1]] = copy.deepcopy(value)
-        else:
-            vector = list(target[parts[-1]])
-            vector[component] = value
-            target[parts[-1]] = vector
+    for parameter in parameters:
+        *leading, last = parameter.keys
+        target: Any = data
+        for key in leading:  # a base with no [simulation] table gets one
+            target = target[key] if isinstance(key, int) else target.setdefault(key, {})
+        value = copy.deepcopy(values[parameter.path])
+        if parameter.component is not None:
+            vector = list(target[last])
+            vector[parameter.component] = value
+            value = vector
+        target[last] = value
     return data
 
 
@@ -379,8 +382,8 @@ def parse_sweep(data: Mapping[str, Any], source: str = "<sweep>", folder: Path =
     parameters = []
     for path, given in table.items():
         where = f"sweep.parameters.{path}"
-        _split(source, kind, base, path, where)
-        parameters.append(Parameter(path, _values(source, given, where)))
+        keys, component = _target(source, kind, base, path, where)
+        parameters.append(Parameter(path, _values(source, given, where), keys, component))
     combine = sweep.get("combine", "grid")
     if combine not in ("grid", "zip"):
         raise SweepError(source, "sweep.combine", "must be 'grid' or 'zip'", got=combine)
