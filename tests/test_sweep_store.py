@@ -86,9 +86,17 @@ def test_rows_are_on_disk_as_they_arrive_and_a_cut_line_is_dropped(tmp_path: Pat
     final.close()
 
 
+def test_no_row_no_file(tmp_path: Path) -> None:
+    store = ResultStore(tmp_path / "t", COLUMNS)
+    store.start(resume=False)
+    store.close()  # e.g. the cluster could not be reached
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_an_existing_table_needs_resume_and_the_same_columns(tmp_path: Path) -> None:
     store = ResultStore(tmp_path / "t", COLUMNS)
     store.start(resume=False)
+    store.add(row(0))
     store.close()
     with pytest.raises(CollisionLabError, match="exists: --resume"):
         ResultStore(tmp_path / "t", COLUMNS).start(resume=False)

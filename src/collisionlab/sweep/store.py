@@ -93,6 +93,7 @@ class ResultStore:
         self.columns = columns
         self.rows: dict[tuple[int, int], dict[str, Any]] = {}
         self._journal: io.TextIOWrapper | None = None
+        self._started = False
         self._last_sync = self._last_snapshot = time.monotonic()
         self._unsynced = False
 
@@ -102,8 +103,9 @@ class ResultStore:
 
     # --- opening ------------------------------------------------------------------------------
     def start(self, resume: bool) -> None:
-        """Open the journal: a new one (refused if the files exist and ``resume`` is false), or,
-        with ``resume``, the existing one with its rows read back (a cut last line dropped)."""
+        """Check the files before anything runs: absent (else refused unless ``resume``), or, with
+        ``resume``, read their rows back (a cut last line dropped). Nothing is written until the
+        first row arrives, so a sweep that fails before (no cluster) leaves no file behind."""
         exists = self.csv_path.exists()
         if exists and not resume:
             raise CollisionLabError(
@@ -111,10 +113,15 @@ class ResultStore:
             )
         if exists:
             self._read_back()
-        else:
-            with atomic_path(self.csv_path) as temporary:
-                temporary.write_text(_line(self.names), encoding="utf-8")
-        self._journal = open(self.csv_path, "a", encoding="utf-8", newline="")  # noqa: SIM115 (closed in close())
+        self._started = True
+
+    def _open_journal(self) -> io.TextIOWrapper:
+        if self._journal is None:
+            if not self.csv_path.exists():
+                with atomic_path(self.csv_path) as temporary:
+                    temporary.write_text(_line(self.names), encoding="utf-8")
+            self._journal = open(self.csv_path, "a", encoding="utf-8", newline="")  # noqa: SIM115 (closed in close())
+        return self._journal
 
     def _read_back(self) -> None:
         data = self.csv_path.read_bytes()
@@ -144,14 +151,15 @@ class ResultStore:
             return False
         kept = {name: row.get(name) for name in self.names}
         self.rows[key] = kept
-        if self._journal is not None:
-            self._journal.write(_line(format_cell(kept[name], kind) for name, kind in self.columns))
-            self._journal.flush()
+        if self._started:
+            journal = self._open_journal()
+            journal.write(_line(format_cell(kept[name], kind) for name, kind in self.columns))
+            journal.flush()
             self._unsynced = True
         now = time.monotonic()
         if now - self._last_sync >= SYNC_SECONDS:
             self._sync()
-        if now - self._last_snapshot >= SNAPSHOT_SECONDS:
+        if self._started and now - self._last_snapshot >= SNAPSHOT_SECONDS:
             self.write_parquet()
         return True
 
@@ -183,11 +191,14 @@ class ResultStore:
         self._last_snapshot = time.monotonic()
 
     def close(self) -> None:
-        """Write both files whole and sorted (atomically), and close the journal."""
-        if self._journal is None:
+        """Write both files whole and sorted (atomically), and close the journal (nothing, if no
+        row ever came)."""
+        if self._journal is not None:
+            self._journal.close()
+            self._journal = None
+        if not self._started or not self.rows:
             return
-        self._journal.close()
-        self._journal = None
+        self._started = False
         with atomic_path(self.csv_path) as temporary, open(temporary, "w", encoding="utf-8", newline="") as handle:
             handle.write(_line(self.names))
             for row in self.sorted_rows():
