@@ -7,7 +7,8 @@
    local workers; the time per point of the whole sweep (submission, scheduling, the result's
    trip back, the row appended to the CSV and the Parquet snapshots). Target: < 20 ms.
 
-Each figure is the median of ``--runs`` runs (default 3), with the spread (min-max). The time is
+Each figure is the median of ``--runs`` runs (default 3), with the spread (min-max), and the load
+average after each run (on a shared machine, other work takes cores from the workers). The time is
 that of :func:`collisionlab.sweep.runner.run_sweep` (the cluster already up, as on a cluster one
 reuses); the cluster's start-up is reported beside it.
 
@@ -94,7 +95,8 @@ def scaling(runs: int) -> None:
             results[workers].append(seconds)
             print(
                 f"  run {run + 1}, {workers} worker{'s' if workers > 1 else ' '}: {seconds:7.2f} s "
-                f"(cluster start {started:.2f} s; a point's own time {statistics.median(walls):.3f} s median)",
+                f"(cluster start {started:.2f} s; a point's own time {statistics.median(walls):.3f} s median; "
+                f"load average {os.getloadavg()[0]:.1f})",
                 flush=True,
             )
     one, two = statistics.median(results[1]), statistics.median(results[2])
@@ -115,7 +117,8 @@ def overhead(runs: int) -> None:
         per_point.append(seconds)  # s per 1,000 points = ms per point
         print(
             f"  run {run + 1}: {seconds:6.2f} s, {seconds:.3f} ms per point "
-            f"(simulation {statistics.median(walls) * 1000:.2f} ms of it; cluster start {started:.2f} s)",
+            f"(simulation {statistics.median(walls) * 1000:.2f} ms of it; cluster start {started:.2f} s; "
+            f"load average {os.getloadavg()[0]:.1f})",
             flush=True,
         )
     print(f"  per point: {spread(per_point)} ms (target < 20 ms)")
