@@ -7,6 +7,7 @@
     python3 tasks.py bench-engine   # the engine's figures: a 2,020-body scenario, memory, start-up
     python3 tasks.py bench-edmd     # the event-driven engine against the reference C code
     python3 tasks.py edmd-long      # 10^7 elastic collisions; 1,000 balls coming to rest
+    python3 tasks.py bench-sweep    # sweeps on Dask: 2 workers against 1, overhead per point
 
 Each step is printed before it runs; the first failure stops with its exit status.
 """
@@ -86,6 +87,11 @@ def edmd_long() -> None:
     sh(PYTHON, "bench/edmd_long.py", *sys.argv[2:])
 
 
+def bench_sweep() -> None:
+    setup("dev")
+    sh(PYTHON, "bench/bench_sweep.py", *sys.argv[2:])
+
+
 TASKS = {
     "run": run,
     "test": test,
@@ -93,6 +99,7 @@ TASKS = {
     "bench-engine": bench_engine,
     "bench-edmd": bench_edmd,
     "edmd-long": edmd_long,
+    "bench-sweep": bench_sweep,
 }
 
 if __name__ == "__main__":

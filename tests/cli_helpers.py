@@ -22,7 +22,8 @@ from tests.schema_check import check
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "src" / "collisionlab" / "examples"
-EXAMPLE_NAMES = sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+#: The scenario files among the examples (``sweep-*.toml`` are sweep files: tests/test_sweep_*.py).
+EXAMPLE_NAMES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.name.startswith("sweep-"))
 #: The console script of the venv the tests run in (the package is installed editable).
 SCRIPT = Path(sys.executable).with_name("collisionlab")
 

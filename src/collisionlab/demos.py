@@ -13,11 +13,21 @@ from .errors import InvalidInputError
 from .model import Scenario
 from .scenario_file import parse_scenario
 
-__all__ = ["LAB_DEMOS", "builtin_scenario_path", "copy_examples", "demo_names", "demo_text", "load_demo"]
+__all__ = [
+    "LAB_DEMOS",
+    "SWEEP_PREFIX",
+    "builtin_scenario_path",
+    "copy_examples",
+    "demo_names",
+    "demo_text",
+    "load_demo",
+]
 
 #: The lab's four cases, in the lab's order: 1 AABB in 3D, 2 sphere and sphere,
 #: 3 circle and line, 4 sphere and plane.
 LAB_DEMOS: tuple[str, ...] = ("aabb3d", "spheres", "circle-line", "sphere-plane")
+#: ``examples/sweep-*.toml`` are sweep files (``collisionlab sweep``), not scenarios: not demos.
+SWEEP_PREFIX = "sweep-"
 
 
 def _folder() -> resources.abc.Traversable:
@@ -29,7 +39,9 @@ def demo_names() -> list[str]:
     others = sorted(
         entry.name.removesuffix(".toml")
         for entry in _folder().iterdir()
-        if entry.name.endswith(".toml") and entry.name.removesuffix(".toml") not in LAB_DEMOS
+        if entry.name.endswith(".toml")
+        and entry.name.removesuffix(".toml") not in LAB_DEMOS
+        and not entry.name.startswith(SWEEP_PREFIX)
     )
     return [*LAB_DEMOS, *others]
 

@@ -22,7 +22,7 @@ from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive, positive_or_inf, whole_number
 from .vector import Vector3D, as_vector
 
-__all__ = ["ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
+__all__ = ["SCENARIO_FIELDS", "ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
 
 T = TypeVar("T")
 
@@ -45,6 +45,13 @@ _GAS_KEYS = {
 }
 _BODY_SHAPES = ("circle", "sphere", "aabb")
 _STATIC_SHAPES = ("line", "plane", "aabb")
+#: The keys each table of a scenario file accepts (``simulation``, each ``body``, each ``static``).
+SCENARIO_FIELDS: Mapping[str, frozenset[str]] = {
+    "simulation": frozenset(_SIMULATION_KEYS),
+    "body": frozenset(_BODY_KEYS),
+    "static": frozenset(_STATIC_KEYS),
+    "gas": frozenset(_GAS_KEYS),
+}
 
 
 class ScenarioError(InvalidInputError):

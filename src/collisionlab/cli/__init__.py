@@ -14,7 +14,7 @@ from .. import __version__
 from ..errors import CollisionLabError, InvalidInputError
 from ..scenario_file import ScenarioError
 from ..world import InitialOverlapError
-from . import examples_command, gas_command
+from . import examples_command, gas_command, sweep_command
 from .menu import run_menu
 from .run_command import add_run_parsers
 from .streams import Streams
@@ -68,6 +68,7 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     add_run_parsers(sub)
     gas_command.add_parser(sub)
     examples_command.add_parser(sub)
+    sweep_command.add_parser(sub)
     return parser
 
 

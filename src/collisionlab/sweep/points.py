@@ -1,0 +1,240 @@
+"""Run one point of a sweep and return its row of metrics.
+
+The only module of the sweep that calls the simulation, and only through the public API:
+:func:`collisionlab.scenario_file.parse_scenario` and :func:`collisionlab.world.simulate` for a
+scenario, :func:`collisionlab.particles.gas_scenario` and
+:meth:`~collisionlab.particles.ParticleWorld.step` for the gas, exactly as ``collisionlab run``
+and ``collisionlab gas`` do, so a row equals running its point alone.
+
+Everything here is a pure function of the :class:`Task` (its seed included): nothing depends on
+the worker, the process, or the order the tasks run in.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import InvalidInputError
+from ..particles import ParticleWorld, gas_scenario, warm_up
+from ..record import RunRecord
+from ..scenario_file import parse_scenario
+from ..world import simulate
+from .theory import compressibility_from_collisions
+
+__all__ = [
+    "GAS_DEFAULTS",
+    "GAS_METRICS",
+    "SCENARIO_METRICS",
+    "Task",
+    "check_base",
+    "metric_columns",
+    "run_point",
+]
+
+#: The gas's parameters (``[sweep.gas]`` and ``gas.KEY`` paths) and their defaults, those of
+#: ``collisionlab gas``; ``fraction``, ``radius`` and ``step_fraction`` are
+#: :func:`~collisionlab.particles.gas_scenario`'s.
+GAS_DEFAULTS: dict[str, Any] = {
+    "n": 10_000,
+    "dim": 2,
+    "steps": 1000,
+    "restitution": 1.0,
+    "gravity": 0.0,
+    "speeds": "gaussian",
+    "backend": "auto",
+    "fraction": 0.2,
+    "radius": 1.0,
+    "step_fraction": 0.1,
+}
+
+_VECTOR = ("x", "y", "z")
+
+#: Metric name -> its columns and their types ("int", "float", "bool"), for a scenario.
+SCENARIO_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
+    "collisions": (("collisions", "int"),),
+    "first_collision_step": (("first_collision_step", "int"),),
+    "first_collision_time": (("first_collision_time", "float"),),
+    "kinetic_energy_start": (("kinetic_energy_start", "float"),),
+    "kinetic_energy_end": (("kinetic_energy_end", "float"),),
+    "energy_start": (("energy_start", "float"),),
+    "energy_end": (("energy_end", "float"),),
+    "momentum_start": tuple((f"momentum_start_{c}", "float") for c in _VECTOR),
+    "momentum_end": tuple((f"momentum_end_{c}", "float") for c in _VECTOR),
+    "ledger": tuple(
+        (f"ledger_{cause}", "float") for cause in ("collisions", "integrator", "push_apart", "residual", "predicted")
+    ),
+    "collision_rate": (("collision_rate", "float"),),
+    "max_overlap": (("max_overlap", "float"),),
+    "tunnelling_warning": (("tunnelling_warning", "bool"),),
+    "wall_time": (("wall_time", "float"),),
+}
+
+#: The same for the gas.
+GAS_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
+    "collisions": (("collisions", "int"),),
+    "wall_collisions": (("wall_collisions", "int"),),
+    "kinetic_energy_start": (("kinetic_energy_start", "float"),),
+    "kinetic_energy_end": (("kinetic_energy_end", "float"),),
+    "energy_drift": (("energy_drift", "float"),),
+    "momentum_start": tuple((f"momentum_start_{c}", "float") for c in _VECTOR),
+    "momentum_end": tuple((f"momentum_end_{c}", "float") for c in _VECTOR),
+    "collision_rate": (("collision_rate", "float"),),
+    "compressibility": (("compressibility", "float"),),
+    "max_overlap": (("max_overlap", "float"),),
+    "wall_time": (("wall_time", "float"),),
+}
+
+
+@dataclass(frozen=True)
+class Task:
+    """One row to compute: point ``point``, replica ``replica``, with the base's data already
+    changed to the point's values (``kind`` ``"scenario"``: TOML data; ``"gas"``: parameters)."""
+
+    point: int
+    replica: int
+    seed: int
+    kind: str
+    data: Mapping[str, Any]
+    metrics: tuple[str, ...]
+
+    @property
+    def key(self) -> tuple[int, int]:
+        return (self.point, self.replica)
+
+
+def metric_columns(kind: str, metrics: tuple[str, ...]) -> list[tuple[str, str]]:
+    """The columns (name, type) that ``metrics`` fill, in order.
+
+    >>> metric_columns("scenario", ("collisions", "momentum_end"))[:2]
+    [('collisions', 'int'), ('momentum_end_x', 'float')]
+    """
+    registry = GAS_METRICS if kind == "gas" else SCENARIO_METRICS
+    return [column for name in metrics for column in registry[name]]
+
+
+def _vector(prefix: str, values: object) -> dict[str, float]:
+    components = [float(v) for v in values] + [0.0] * 3  # type: ignore[attr-defined]
+    return {f"{prefix}_{c}": components[i] for i, c in enumerate(_VECTOR)}
+
+
+# --- a scenario ---------------------------------------------------------------------------------
+def _scenario_metrics(record: RunRecord, seconds: float) -> dict[str, Any]:
+    ledger = record.ledger
+    first = record.events[0] if record.events else None
+    duration = record.frames[-1].time if record.frames else 0.0
+    return {
+        "collisions": len(record.events),
+        "first_collision_step": first.step if first else None,
+        "first_collision_time": first.time if first else None,
+        "kinetic_energy_start": ledger.kinetic_start,
+        "kinetic_energy_end": ledger.kinetic_end,
+        "energy_start": ledger.energy_start,
+        "energy_end": ledger.energy_end,
+        **_vector("momentum_start", ledger.momentum_start),
+        **_vector("momentum_end", ledger.momentum_end),
+        "ledger_collisions": ledger.collisions,
+        "ledger_integrator": ledger.integrator,
+        "ledger_push_apart": ledger.push_apart,
+        "ledger_residual": ledger.residual,
+        "ledger_predicted": ledger.collisions_predicted,
+        "collision_rate": len(record.events) / duration if duration > 0 else math.nan,
+        "max_overlap": ledger.max_penetration,
+        "tunnelling_warning": any("tunnelling" in warning for warning in record.warnings),
+        "wall_time": seconds,
+    }
+
+
+def _run_scenario(data: Mapping[str, Any]) -> dict[str, Any]:
+    scenario = parse_scenario(data, "scenario")
+    began = time.perf_counter()
+    record = simulate(scenario)
+    return _scenario_metrics(record, time.perf_counter() - began)
+
+
+# --- the gas ------------------------------------------------------------------------------------
+def _gas_world(data: Mapping[str, Any], seed: int) -> tuple[ParticleWorld, float, int]:
+    """The world ``collisionlab gas`` builds from these parameters, its ``dt`` and its steps."""
+    gas = gas_scenario(
+        data["n"],
+        data["dim"],
+        seed,
+        radius=data["radius"],
+        fraction=data["fraction"],
+        step_fraction=data["step_fraction"],
+        speeds=data["speeds"],
+    )
+    world = gas.world(restitution=data["restitution"], gravity=data["gravity"], backend=data["backend"])
+    steps = data["steps"]
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+        raise InvalidInputError("steps", "must be a whole number >= 1", got=steps)
+    return world, gas.dt, steps
+
+
+def _max_overlap(world: ParticleWorld) -> float:
+    pairs = world.overlapping_pairs()
+    if len(pairs) == 0:
+        return 0.0
+    x, r = world.positions, world.radii
+    gaps = np.linalg.norm(x[pairs[:, 1]] - x[pairs[:, 0]], axis=1) - r[pairs[:, 0]] - r[pairs[:, 1]]
+    return float(max(0.0, -gaps.min()))
+
+
+def _run_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
+    world, dt, steps = _gas_world(data, seed)
+    if world.backend == "numba":
+        warm_up()  # compiling (first task of a worker) is not the point's time
+    energy_start, momentum_start = world.kinetic_energy(), world.momentum()
+    began = time.perf_counter()
+    report = world.step(dt, steps)
+    seconds = time.perf_counter() - began
+    energy_end = world.kinetic_energy()
+    radius = float(world.radii[0])
+    return {
+        "collisions": report.body_collisions,
+        "wall_collisions": report.wall_collisions,
+        "kinetic_energy_start": energy_start,
+        "kinetic_energy_end": energy_end,
+        "energy_drift": (energy_end - energy_start) / energy_start if energy_start > 0 else 0.0,
+        **_vector("momentum_start", momentum_start),
+        **_vector("momentum_end", world.momentum()),
+        "collision_rate": 2.0 * report.body_collisions / (world.n * dt * steps),
+        # Today's gas is time-stepped: Z from the collision rate (theory.py). An exact, event-driven
+        # gas reports its own; only this line changes.
+        "compressibility": compressibility_from_collisions(
+            report.body_collisions, world.n, world.dim, 2.0 * radius, dt * steps, (energy_start + energy_end) / 2
+        ),
+        "max_overlap": _max_overlap(world),
+        "wall_time": seconds,
+    }
+
+
+# --- the entry points ---------------------------------------------------------------------------
+def check_base(kind: str, data: Mapping[str, Any]) -> None:
+    """Raise :class:`InvalidInputError` if the base itself (before any point's change) is invalid."""
+    if kind == "gas":
+        _gas_world(data, 0)
+    else:
+        parse_scenario(data, "scenario")
+
+
+def run_point(task: Task) -> dict[str, Any]:
+    """The row of ``task``: ``point``, ``replica``, ``seed``, ``error`` (empty, or why the point could
+    not run: the rest of the sweep goes on) and the metrics' columns (None after an error)."""
+    row: dict[str, Any] = {"point": task.point, "replica": task.replica, "seed": task.seed, "error": ""}
+    columns = metric_columns(task.kind, task.metrics)
+    try:
+        values = _run_gas(task.data, task.seed) if task.kind == "gas" else _run_scenario(task.data)
+    except InvalidInputError as error:
+        row["error"] = f"{error.field}: {error.problem}" + (f" (got {error.got!r})" if error.got is not None else "")
+        values = {}
+    except (ArithmeticError, MemoryError, TypeError, ValueError, KeyError) as error:
+        row["error"] = f"{type(error).__name__}: {error}"
+        values = {}
+    row.update({name: values.get(name) for name, _ in columns})
+    return row

@@ -1,0 +1,118 @@
+"""Sweeps on a local Dask cluster: the same table with 1, 2 and 4 workers, equal to lone runs; an
+invalid point does not stop the sweep; Ctrl-C then --resume finishes without running a row twice."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import pyarrow.parquet as pq
+
+from .cli_helpers import SCRIPT, example, finish, run_cli
+
+GAS = """
+[sweep]
+replicas = 2
+metrics = ["collisions", "wall_collisions", "kinetic_energy_end", "energy_drift", "momentum_end", "wall_time"]
+[sweep.gas]
+n = 200
+steps = 150
+[sweep.parameters]
+"gas.restitution" = [0.8, 1.0]
+"gas.n" = [200, 0]            # 0 balls: invalid, its rows say so and the rest goes on
+"""
+
+
+def table_without_wall_time(path: Path) -> list[dict[str, object]]:
+    return pq.read_table(path).drop_columns(["wall_time"]).to_pylist()
+
+
+def test_one_two_and_four_workers_give_the_same_table_and_it_equals_lone_runs(tmp_path: Path) -> None:
+    sweep = tmp_path / "gas.toml"
+    sweep.write_text(GAS)
+    tables = []
+    for workers in ("1", "2", "4"):
+        result = run_cli(["sweep", str(sweep), "--workers", workers, "--output", str(tmp_path / f"w{workers}")])
+        assert result.status == 0, result.err
+        assert f"on {workers} worker" in result.err and "4 rows report an error" in result.err
+        tables.append(table_without_wall_time(tmp_path / f"w{workers}.parquet"))
+        assert (tmp_path / f"w{workers}.csv").read_bytes() != b""
+    assert tables[0] == tables[1] == tables[2]  # every bit of every row
+    rows = tables[0]
+    assert [(r["point"], r["replica"]) for r in rows] == [(p, r) for p in range(4) for r in range(2)]
+    bad = [r for r in rows if r["gas.n"] == 0]
+    assert len(bad) == 4 and all(r["error"].startswith("n: must be a whole number >= 1") for r in bad)
+    assert all(r["collisions"] is None for r in bad)
+    for row in rows:
+        if row["error"]:
+            continue
+        argv = ["gas", "--n", "200", "--steps", "150", "--restitution", str(row["gas.restitution"])]
+        alone = run_cli([*argv, "--seed", str(row["seed"]), "--format", "json"]).json()
+        assert (row["collisions"], row["kinetic_energy_end"]) == (alone["collisions"], alone["kinetic_energy_end"])
+    # the CSV says the same as the Parquet file
+    csv_lines = (tmp_path / "w1.csv").read_text().splitlines()
+    assert len(csv_lines) == 9 and csv_lines[0].startswith("point,replica,seed,gas.restitution,gas.n,error,")
+
+
+SLOW = """
+[sweep]
+demo = "sphere-plane"
+metrics = ["first_collision_step", "wall_time"]
+[sweep.parameters]
+"simulation.dt" = {start = 0.001, stop = 0.012, num = 12}
+"simulation.steps" = [1500]
+"""
+
+
+def data_lines(path: Path) -> list[str]:
+    if not path.exists():
+        return []
+    return [line for line in path.read_text().splitlines()[1:] if line]
+
+
+def test_an_interrupted_sweep_resumes_without_running_a_row_twice(tmp_path: Path) -> None:
+    sweep = tmp_path / "slow.toml"
+    sweep.write_text(SLOW)
+    csv = tmp_path / "slow.csv"
+    process = subprocess.Popen(
+        [str(SCRIPT), "sweep", str(sweep), "--workers", "1"],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    try:
+        deadline = time.monotonic() + 60
+        while len(data_lines(csv)) < 3 and process.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert process.poll() is None, "the sweep ended before it could be interrupted"
+        os.kill(process.pid, signal.SIGINT)  # Ctrl-C
+        status, err = finish(process, timeout=60)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    assert status == 130, err
+    assert b"--resume" in err
+    before = {tuple(line.split(",")[:2]): line for line in data_lines(csv)}
+    assert 3 <= len(before) < 12
+    again = run_cli(["sweep", str(sweep), "--resume", "--workers", "2", "--output", str(tmp_path / "slow")])
+    assert again.status == 0, again.err
+    assert f"{len(before)} of 12 rows already in" in again.err
+    assert f"{12 - len(before)} rows written ({len(before)} already there)" in again.err
+    after = data_lines(csv)
+    keys = [tuple(line.split(",")[:2]) for line in after]
+    assert keys == [(str(p), "0") for p in range(12)]  # every row once, in order
+    for line in after:  # the rows of the first run are kept as they were (their wall time too)
+        key = tuple(line.split(",")[:2])
+        if key in before:
+            assert before[key] == line
+    table = pq.read_table(tmp_path / "slow.parquet").to_pylist()
+    alone = run_cli(["run", example("sphere-plane"), "--dt", "0.001", "--steps", "1500", "--format", "json"]).json()
+    assert table[0]["simulation.dt"] == 0.001
+    assert table[0]["first_collision_step"] == alone["events"][0]["step"] == 1256  # about 1.255 / dt
+    # nothing more to do: a second --resume runs nothing
+    done = run_cli(["sweep", str(sweep), "--resume", "--quiet", "--output", str(tmp_path / "slow")])
+    assert done.status == 0 and "nothing to run" in done.err
