@@ -20,9 +20,10 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    ``v_b += (j/m_b) n`` (lab eqs. 12, 15, 24). Swept again while a sweep applies one, at most
    ``passes`` times. A pair gets an impulse when it touches or overlaps, or, if it was already in
    contact, when it is within ``solver_margin`` (so a resting stack stays supported). An impulse
-   on a pair that was not already in contact is a collision event, unless it rests: an approach
-   no faster than ``rest_speed + |g . n| dt`` (what gravity alone adds in one step) is a body
-   pressed onto its support, and gets no event; and e = 0 below ``rest_speed + 2 |g . n| dt / e^2``,
+   on a pair that was not already in contact is a collision event, unless it rests on a support
+   that does not fall (a static or a kinematic body): an approach no faster than
+   ``rest_speed + |g . n| dt`` (what gravity alone adds in one step) is a body pressed onto its
+   support, and gets no event; and e = 0 below ``rest_speed + 2 |g . n| dt / e^2``,
    where the bounce would not rise above the depth one step of approach makes. So a ball on a
    floor or an incline stays on it and slides without hops or events, and a dropped ball comes
    to rest after a few bounces instead of hopping forever.
@@ -640,7 +641,10 @@ def _impulses(
         # is a body pressed onto its support, not an impact: no event. And a bounce is kept only
         # if it would rise above the depth one step of approach makes, e^2 v^2 / (2 g_n) >= v dt,
         # else e = 0: shorter hops are numerical (Forward Euler and push-apart feed them).
-        g_dt = abs(gravity[0] * nx + gravity[1] * ny + gravity[2] * nz) * dt
+        # Only a support that does not fall (a static, a kinematic body) holds a body up: two free
+        # bodies fall together, and gravity adds nothing to their approach.
+        supported = a < 0 or ima[a] == 0.0 or ima[b] == 0.0
+        g_dt = abs(gravity[0] * nx + gravity[1] * ny + gravity[2] * nz) * dt if supported else 0.0
         resting = rest_speed + g_dt
         squared = e_pair * e_pair
         if g_dt == 0.0:

@@ -34,11 +34,9 @@ from . import step_kernels
 from .exact import ExactStepper
 from .params import COMPILE_ABOVE, WorldParams
 from .state import bodies_of, statics_of
+from .stepper import EulerStepper
 
-__all__ = ["InitialOverlapError", "World", "simulate", "stencil"]
-
-#: Rows of the event buffer kept between calls; a larger one (after a burst) is let go.
-_EVENT_ROWS_KEPT = 4096
+__all__ = ["InitialOverlapError", "World", "simulate"]
 
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C).
 _CHUNK_SECONDS = 0.1
@@ -46,19 +44,6 @@ _CHUNK_SECONDS = 0.1
 
 class InitialOverlapError(InvalidInputError):
     """Two bodies (or a body and an obstacle) overlap at the start."""
-
-
-def stencil(dims: int) -> np.ndarray[Any, np.dtype[np.int64]]:
-    """Cell offsets of a cell and the half of its neighbours after it in (z, y, x) order, so that
-    every unordered pair of neighbouring cells is visited once (Ericson 7.1.2)."""
-    rows = [(0, 0, 0)]
-    span = (-1, 0, 1)
-    for dz in span if dims == 3 else (0,):
-        for dy in span:
-            for dx in span:
-                if (dz, dy, dx) > (0, 0, 0):
-                    rows.append((dx, dy, dz))
-    return np.asarray(rows, np.int64)
 
 
 def _thickness(kind: int, ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> float:
@@ -118,10 +103,7 @@ class World:
         if warning:
             self.record.warnings.append(warning)
         n = self._bodies.n
-        self._stencil = stencil(self.dims)
-        extent = float(self._bodies.ext[:, : self.dims].max())
-        self._min_cell = 2.0 * extent + self.params.contact_margin
-        self._max_cells = 6 * n + 64
+        self._stepper = EulerStepper(self._bodies, self._statics, self.dims, self._gravity, self.params)
         self._check_initial_overlap()
         # Per body in the order given (storage is still that order here).
         kinds, extents = self._bodies.kind, self._bodies.ext
@@ -130,17 +112,6 @@ class World:
         self._exact = ExactStepper(scenario, self.record) if settings.mode == "exact" else None
         compiled = self.params.compiled
         self._compiled = n * settings.steps > COMPILE_ABOVE if compiled is None else compiled
-        self._scratch_f = np.zeros((n, 11))
-        self._scratch_i = np.zeros((n, 2), np.int64)
-        self._cell_start = np.zeros(self._max_cells + 2, np.int64)
-        self._dest = np.zeros(n, np.int64)
-        self._touch_keys = np.zeros(16, np.int64)
-        self._touch_count = np.zeros(1, np.int64)
-        capacity = max(16, n // 4)  # contacts: grown by the kernel when a step has more
-        self._contacts = (np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), np.zeros(capacity))
-        self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
-        self._event_count = np.zeros(2, np.int64)
-        self._ledger = np.zeros(step_kernels.LEDGER_SIZE)
 
     def __repr__(self) -> str:
         n, m = self._bodies.n, self._statics.m
@@ -151,10 +122,7 @@ class World:
 
     def nbytes(self) -> int:
         """Bytes of every array the world holds: state, statics, scratch and buffers."""
-        s = self._statics
-        arrays = [s.kind, s.a, s.b, s.e, self._scratch_f, self._scratch_i, self._cell_start, self._dest]
-        arrays += [self._touch_keys, *self._contacts, self._events]
-        return self._bodies.nbytes() + sum(int(a.nbytes) for a in arrays)
+        return self._stepper.nbytes()
 
     # --- state, in the order the bodies were given --------------------------------------------
     def _given_order(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> np.ndarray[Any, np.dtype[np.float64]]:
@@ -216,23 +184,8 @@ class World:
 
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
-        b, s = self._bodies, self._statics
-        kernels = self._compiled_kernels() if b.n * max(1, s.m) > COMPILE_ABOVE // 100 else step_kernels
-        pairs, depths = kernels.find_near(
-            b.kind,
-            b.pos,
-            b.ext,
-            b.ids,
-            s.kind,
-            s.a,
-            s.b,
-            self._stencil,
-            self.dims,
-            self._min_cell,
-            self._max_cells,
-            margin,
-        )
-        return np.asarray(pairs, np.int64), np.asarray(depths, np.float64)
+        large = self._bodies.n * max(1, self._statics.m) > COMPILE_ABOVE // 100
+        return self._stepper.near(self._compiled_kernels() if large else step_kernels, margin)
 
     def _pair_names(self, a: int, b: int) -> tuple[str, str]:
         return (self._static_names[-1 - a] if a < 0 else self._names[a], self._names[b])
@@ -331,65 +284,21 @@ class World:
 
     def _step_euler(self, steps: int) -> None:
         self._check_tunnelling()
-        b, s, p, settings = self._bodies, self._statics, self.params, self.scenario.settings
+        settings = self.scenario.settings
         kernels = self._compiled_kernels() if self._compiled else step_kernels
-        self._event_count[0] = 0
-        self._ledger[:] = 0.0
-        ca, cb, cd = self._contacts
-        touch_keys, ca, cb, cd, events = kernels.run_steps(
-            b.kind,
-            b.pos,
-            b.vel,
-            b.ext,
-            b.ima,
-            b.eb,
-            b.ids,
-            self._scratch_f,
-            self._scratch_i,
-            self._cell_start,
-            self._dest,
-            self._stencil,
-            s.kind,
-            s.a,
-            s.b,
-            s.e,
-            self._gravity,
-            self.dims,
-            settings.dt,
-            settings.restitution,
-            p.slop,
-            p.solver_margin,
-            p.contact_margin,
-            p.rest_speed if self._gravity.any() else 0.0,
-            p.passes,
-            self._min_cell,
-            self.step_index,
-            steps,
-            True,
-            self._touch_keys,
-            self._touch_count,
-            ca,
-            cb,
-            cd,
-            self._events,
-            self._event_count,
-            self._ledger,
-        )
-        self._touch_keys, self._contacts, self._events = touch_keys, (ca, cb, cd), events
+        self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
         self.step_index += steps
         self.time = self.step_index * settings.dt
-        ledger = self.record.ledger
-        ledger.integrator += float(self._ledger[0])
-        ledger.collisions += float(self._ledger[1])
-        ledger.push_apart += float(self._ledger[2])
-        ledger.collisions_predicted += float(self._ledger[3])
-        ledger.max_penetration = max(ledger.max_penetration, float(self._ledger[4]))
-        self._record_events(int(self._event_count[0]))
-        if self._events.shape[0] > _EVENT_ROWS_KEPT:  # a burst of events: do not keep its buffer
-            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+        sums, ledger = self._stepper.ledger, self.record.ledger
+        ledger.integrator += float(sums[0])
+        ledger.collisions += float(sums[1])
+        ledger.push_apart += float(sums[2])
+        ledger.collisions_predicted += float(sums[3])
+        ledger.max_penetration = max(ledger.max_penetration, float(sums[4]))
+        self._record_events(self._stepper.events())
 
-    def _record_events(self, count: int) -> None:
-        rows = self._events[:count].tolist()
+    def _record_events(self, events: np.ndarray[Any, np.dtype[np.float64]]) -> None:
+        rows = events.tolist()
         for row in rows:
             a, b_id = int(row[3]), int(row[4])
             names = self._pair_names(a, b_id)

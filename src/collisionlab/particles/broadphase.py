@@ -13,42 +13,18 @@ O(N^1.5) in all (the figures are in ``bench/README.md``).
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 from numpy.typing import NDArray
 
 from ..engine import step_kernels
+from ..engine.stepper import CELLS_PER_BODY, max_cells, stencil
 from ..errors import InvalidInputError
 from .backend import engine_kernels, pick_backend
 
 __all__ = ["CELLS_PER_BODY", "brute_force_pairs", "grid_pairs", "half_stencil", "max_cells"]
 
-#: Upper bound on grid cells per body (plus a constant); beyond it cells are widened. At an area
-#: fraction of 0.2 a one-diameter grid needs about 4 cells per disc, so 6 leaves room.
-CELLS_PER_BODY: int = 6
-
-
-def max_cells(n: int) -> int:
-    """The grid's cell budget for ``n`` bodies."""
-    return CELLS_PER_BODY * n + 64
-
-
-def half_stencil(dim: int) -> NDArray[np.int64]:
-    """Cell offsets, as rows ``(dx, dy, dz)``, of the cell itself (first row) and of the half of
-    its neighbours that comes later in ``(dz, dy, dx)`` order.
-
-    >>> half_stencil(2).tolist()
-    [[0, 0, 0], [1, 0, 0], [-1, 1, 0], [0, 1, 0], [1, 1, 0]]
-    >>> len(half_stencil(3))
-    14
-    """
-    rows = [(0, 0, 0)]
-    axes = [(-1, 0, 1)] * dim + [(0,)] * (3 - dim)
-    for dz, dy, dx in itertools.product(*reversed(axes)):
-        if (dz, dy, dx) > (0, 0, 0):
-            rows.append((dx, dy, dz))
-    return np.asarray(rows, np.int64)
+# The grid's geometry is the engine's (one stepper, one grid).
+half_stencil = stencil
 
 
 def _as_balls(positions: object, radii: object) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

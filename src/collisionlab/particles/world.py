@@ -30,11 +30,12 @@ from numpy.typing import NDArray
 
 from ..engine import step_kernels
 from ..engine.params import DEFAULT_PASSES, WorldParams
-from ..engine.world import stencil
+from ..engine.state import BodyArrays, StaticArrays
+from ..engine.stepper import EulerStepper
 from ..errors import InvalidInputError
 from ..validate import finite_number, non_negative, positive, whole_number
 from .backend import engine_kernels, pick_backend
-from .broadphase import grid_pairs, max_cells
+from .broadphase import grid_pairs
 
 __all__ = ["DEFAULT_PASSES", "ParticleWorld", "Progress", "StepReport"]
 
@@ -139,33 +140,37 @@ class ParticleWorld:
         self._params = params or WorldParams(passes=whole_number(passes, "passes"))
         self._backend = pick_backend(backend)
         self._dim = int(dim)
-        self._pos = np.zeros((n, 3))
-        self._pos[:, :dim] = pos
-        self._vel = np.zeros((n, 3))
-        self._vel[:, :dim] = vel
-        self._ext = np.repeat(rad[:, None], 3, axis=1)
-        self._ima = ima
-        self._eb = np.full(n, math.nan)
-        self._kind = np.full(n, step_kernels.BALL_2D if dim == 2 else step_kernels.BALL_3D, np.int64)
-        self._ids = np.arange(n, dtype=np.int64)
-        self._planes_n, self._planes_c = normals, offsets
+        pos3 = np.zeros((n, 3))
+        pos3[:, :dim] = pos
+        vel3 = np.zeros((n, 3))
+        vel3[:, :dim] = vel
+        kind = np.full(n, step_kernels.BALL_2D if dim == 2 else step_kernels.BALL_3D, np.int64)
+        ext = np.repeat(rad[:, None], 3, axis=1)
+        bodies = BodyArrays(kind, pos3, vel3, ext, ima, np.full(n, math.nan), np.arange(n, dtype=np.int64))
         walls = normals.shape[0]
-        self._s_kind = np.full(walls, step_kernels.STATIC_WALL, np.int64)
-        self._s_a = np.zeros((walls, 3))
-        self._s_a[:, :dim] = normals * offsets[:, None]
-        self._s_b = np.zeros((walls, 3))
-        self._s_b[:, :dim] = normals
-        self._s_e = np.full(walls, math.nan)
-        self._gravity = np.zeros(3)
-        self._gravity[:dim] = g
+        points = np.zeros((walls, 3))
+        points[:, :dim] = normals * offsets[:, None]
+        units = np.zeros((walls, 3))
+        units[:, :dim] = normals
+        statics = StaticArrays(
+            np.full(walls, step_kernels.STATIC_WALL, np.int64), points, units, np.full(walls, math.nan)
+        )
+        gravity3 = np.zeros(3)
+        gravity3[:dim] = g
+        self._stepper = EulerStepper(bodies, statics, int(dim), gravity3, self._params, record_events=False)
+        # Views of the stepper's arrays (the kernels change them in place).
+        self._pos, self._vel, self._ext, self._ima, self._ids = (
+            bodies.pos,
+            bodies.vel,
+            bodies.ext,
+            bodies.ima,
+            bodies.ids,
+        )
+        self._planes_n, self._planes_c = normals, offsets
+        self._gravity = gravity3
         self._e = e
-        self._stencil = stencil(dim)
-        self._min_cell = 2.0 * float(rad.max()) + self._params.contact_margin
-        self._max_cells = max_cells(n)
         self._time = 0.0
         self._steps = 0
-        self._scratch: tuple[NDArray[np.generic], ...] = ()
-        self._buffers: tuple[NDArray[np.generic], ...] = ()
 
     @staticmethod
     def _walls(
@@ -286,9 +291,7 @@ class ParticleWorld:
     @property
     def nbytes(self) -> int:
         """Bytes of every array the world holds (state, scratch, grid and contact buffers)."""
-        state = (self._pos, self._vel, self._ext, self._ima, self._eb, self._kind, self._ids)
-        arrays = (*state, *self._scratch, *self._buffers)
-        return int(sum(a.nbytes for a in arrays))
+        return self._stepper.nbytes()
 
     def kinetic_energy(self) -> float:
         """``sum(m |v|^2) / 2`` over bodies of finite mass."""
@@ -327,65 +330,5 @@ class ParticleWorld:
         return StepReport(steps, int(ledger[5]), int(ledger[6]))
 
     def _run(self, dt: float, steps: int, ledger: NDArray[np.float64]) -> None:
-        kernels = engine_kernels(self._backend)
-        n = self.n
-        if not self._scratch:
-            self._scratch = (
-                np.zeros((n, 11)),
-                np.zeros((n, 2), np.int64),
-                np.zeros(self._max_cells + 2, np.int64),  # cell starts
-                np.zeros(n, np.int64),  # destination slot of each body in the counting sort
-            )
-            capacity = max(64, n // 8)
-            self._buffers = (
-                np.zeros(capacity, np.int64),  # keys of the pairs in contact
-                np.zeros(1, np.int64),
-                np.zeros(capacity, np.int64),
-                np.zeros(capacity, np.int64),
-                np.zeros(capacity),
-                np.zeros((1, step_kernels.EVENT_COLUMNS)),
-                np.zeros(2, np.int64),
-            )
-        scratch_f, scratch_i, cell_start, dest = self._scratch
-        keys, key_count, ca, cb, cd, events, event_count = self._buffers
-        p = self._params
-        keys, ca, cb, cd, events = kernels.run_steps(
-            self._kind,
-            self._pos,
-            self._vel,
-            self._ext,
-            self._ima,
-            self._eb,
-            self._ids,
-            scratch_f,
-            scratch_i,
-            cell_start,
-            dest,
-            self._stencil,
-            self._s_kind,
-            self._s_a,
-            self._s_b,
-            self._s_e,
-            self._gravity,
-            self._dim,
-            dt,
-            self._e,
-            p.slop,
-            p.solver_margin,
-            p.contact_margin,
-            p.rest_speed if self._gravity.any() else 0.0,
-            p.passes,
-            self._min_cell,
-            self._steps,
-            steps,
-            False,
-            keys,
-            key_count,
-            ca,
-            cb,
-            cd,
-            events,
-            event_count,
-            ledger,
-        )
-        self._buffers = (keys, key_count, ca, cb, cd, events, event_count)
+        self._stepper.advance(engine_kernels(self._backend), dt, self._e, self._steps, steps)
+        ledger += self._stepper.ledger
