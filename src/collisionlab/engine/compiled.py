@@ -3,7 +3,12 @@ second time under their own module names with every function put through ``numba
 
 Nothing is compiled until :func:`kernels` is first called; numba caches the machine code on disk
 (``cache=True``), so the compile happens once per machine and later loads take well under a
-second. :func:`compile_notice` says on stderr when a compile is about to happen.
+second. :func:`is_cached` tells whether a run will find the cache (a world then says on stderr
+that it compiles).
+
+numba keys each cached function on its own source file only, but the stepper's machine code
+contains the geometry kernels it calls: :func:`_forget_stale` drops the stepper's cache when the
+geometry file changed since it was written, so an edit there can never run stale code.
 """
 
 from __future__ import annotations
@@ -48,9 +53,28 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     return module
 
 
+def _cache_files(stem: str) -> list[Path]:
+    """numba's cache files of the functions of ``stem``.py (next to it, or under NUMBA_CACHE_DIR)."""
+    folders = [_HERE / "__pycache__"]
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        folders.append(Path(os.environ["NUMBA_CACHE_DIR"]))
+    return [f for folder in folders if folder.exists() for f in folder.glob(f"**/{stem}.*.nb[ic]")]
+
+
+def _forget_stale() -> None:
+    """Remove the stepper's cached code if ``geometry_kernels.py`` is newer than it."""
+    geometry = (_HERE / "geometry_kernels.py").stat().st_mtime
+    stepper = _cache_files("step_kernels")
+    if stepper and min(f.stat().st_mtime for f in stepper) < geometry:
+        for f in stepper:
+            f.unlink(missing_ok=True)
+
+
 def kernels() -> types.ModuleType:
     """The compiled :mod:`~collisionlab.engine.step_kernels` (and, inside it, geometry kernels)."""
     if "step" not in _loaded:
+        use_user_cache()
+        _forget_stale()
         geometry = _compile_module("geometry_kernels", {})
         _loaded["step"] = _compile_module("step_kernels", {"_GEOMETRY": geometry})
     return _loaded["step"]
@@ -59,7 +83,5 @@ def kernels() -> types.ModuleType:
 def is_cached() -> bool:
     """Whether numba's on-disk cache seems to hold the stepper already (then a run loads it in
     well under a second instead of compiling); a guess from the cache's index file."""
-    folders = [_HERE / "__pycache__"]
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        folders.append(Path(os.environ["NUMBA_CACHE_DIR"]))
-    return any(any(folder.glob("**/step_kernels.run_steps-*.nbi")) for folder in folders if folder.exists())
+    use_user_cache()
+    return any(f.name.startswith("step_kernels.run_steps-") for f in _cache_files("step_kernels"))
