@@ -184,3 +184,19 @@ def test_a_gas_table_meets_the_scenario_schema_and_a_bad_one_does_not() -> None:
     assert len(parse_scenario(tomllib.loads(good)).bodies) == 4
     with pytest.raises(jsonschema.ValidationError):
         check_scenario_text(good.replace("count = 4", "count = 4\nfraction = 0.1"))
+
+
+def test_the_cli_refuses_a_file_whose_bodies_start_overlapping(tmp_path) -> None:
+    from tests.cli_helpers import run_cli
+
+    # Centres 1.5 apart, radii 1 + 1: 0.5 m deep.
+    text = '[[body]]\nname = "a"\nshape = "circle"\nposition = [0, 0]\nradius = 1\n'
+    text += '[[body]]\nname = "b"\nshape = "circle"\nposition = [1.5, 0]\nradius = 1\n'
+    path = tmp_path / "overlap.toml"
+    path.write_text(text)
+    result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert "'a' and 'b' overlap by 0.5 m" in result.err and len(result.err.strip().splitlines()) == 1
+    path.write_text("[simulation]\nallow_initial_overlap = true\n" + text)
+    result = run_cli(["run", str(path), "--steps", "2"])
+    assert result.status == 0 and "overlapped at the start" in result.out
