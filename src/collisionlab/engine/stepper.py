@@ -93,8 +93,7 @@ class EulerStepper:
         b, s, p = self.bodies, self.statics, self.params
         self._event_count[0] = 0
         self.ledger[:] = 0.0
-        if self._events.shape[0] > _EVENT_ROWS_KEPT:  # a burst of events: do not keep its buffer
-            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+        self.release_events()
         ca, cb, cd = self._contacts
         self._touch_keys, ca, cb, cd, self._events = kernels.run_steps(
             b.kind,
@@ -140,6 +139,11 @@ class EulerStepper:
     def events(self) -> NDArray[np.float64]:
         """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
         return self._events[: int(self._event_count[0])]
+
+    def release_events(self) -> None:
+        """Let go of an event buffer grown by a burst (the rows have been read)."""
+        if self._events.shape[0] > _EVENT_ROWS_KEPT:
+            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
 
     def near(self, kernels: ModuleType, margin: float) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
         """Pairs closer than ``margin`` now (ids; a static is ``-1 - s``) and their depths."""

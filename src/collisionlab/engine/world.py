@@ -298,8 +298,23 @@ class World:
         self._record_events(self._stepper.events())
 
     def _record_events(self, events: np.ndarray[Any, np.dtype[np.float64]]) -> None:
-        rows = events.tolist()
-        for row in rows:
+        """The kernel's event rows as :class:`CollisionEvent` and :class:`SkippedContact`."""
+        if events.shape[0] == 0:
+            return
+        # Kinetic energies of each pair before and after, for all rows at once (a kinematic
+        # body's or an obstacle's counts as none).
+        ids_a = events[:, 3].astype(np.int64)
+        ids_b = events[:, 4].astype(np.int64)
+        mass = np.where(np.isfinite(self._mass_array), self._mass_array, 0.0)
+        m_a = np.where(ids_a >= 0, mass[np.maximum(ids_a, 0)], 0.0)
+        m_b = mass[ids_b]
+
+        def kinetic(first: int) -> np.ndarray[Any, np.dtype[np.float64]]:
+            va, vb = events[:, first : first + 3], events[:, first + 3 : first + 6]
+            return np.asarray(0.5 * (m_a * np.einsum("ij,ij->i", va, va) + m_b * np.einsum("ij,ij->i", vb, vb)))
+
+        before_all, after_all = kinetic(14).tolist(), kinetic(20).tolist()
+        for row, ke_before, ke_after in zip(events.tolist(), before_all, after_all, strict=True):
             a, b_id = int(row[3]), int(row[4])
             names = self._pair_names(a, b_id)
             step, time = int(row[1]), row[2]
@@ -307,30 +322,33 @@ class World:
                 self.record.skipped.append(SkippedContact(step, time, names, "separating"))
                 continue
             static = a < 0
-            va_before, vb_before = Vector3D(*row[14:17]), Vector3D(*row[17:20])
-            va_after, vb_after = Vector3D(*row[20:23]), Vector3D(*row[23:26])
-            mass_b = self._masses[b_id]
-            mass_a = math.inf if static else self._masses[a]
-            before = {names[1]: vb_before} if static else {names[0]: va_before, names[1]: vb_before}
-            after = {names[1]: vb_after} if static else {names[0]: va_after, names[1]: vb_after}
+            vb_before = Vector3D(row[17], row[18], row[19])
+            vb_after = Vector3D(row[23], row[24], row[25])
+            if static:
+                before = {names[1]: vb_before}
+                after = {names[1]: vb_after}
+            else:
+                before = {names[0]: Vector3D(row[14], row[15], row[16]), names[1]: vb_before}
+                after = {names[0]: Vector3D(row[20], row[21], row[22]), names[1]: vb_after}
             self.record.events.append(
                 CollisionEvent(
                     step=step,
                     time=time,
                     bodies=names,
                     static=static,
-                    normal=Vector3D(*row[5:8]),
-                    point=Vector3D(*row[8:11]),
+                    normal=Vector3D(row[5], row[6], row[7]),
+                    point=Vector3D(row[8], row[9], row[10]),
                     approach_speed=row[11],
                     impulse=row[12],
                     restitution=row[13],
-                    masses=(mass_a, mass_b),
+                    masses=(math.inf if static else self._masses[a], self._masses[b_id]),
                     velocities_before=before,
                     velocities_after=after,
-                    kinetic_energy_before=_kinetic(mass_a, va_before) + _kinetic(mass_b, vb_before),
-                    kinetic_energy_after=_kinetic(mass_a, va_after) + _kinetic(mass_b, vb_after),
+                    kinetic_energy_before=ke_before,
+                    kinetic_energy_after=ke_after,
                 )
             )
+        self._stepper.release_events()
 
     # --- running --------------------------------------------------------------------------------
     def run(self, every: int = 1, progress: Callable[[int, int], None] | None = None) -> RunRecord:
@@ -355,10 +373,6 @@ class World:
             if progress is not None:
                 progress(self.step_index, total)
         return self.record
-
-
-def _kinetic(mass: float, velocity: Vector3D) -> float:
-    return 0.0 if math.isinf(mass) else 0.5 * mass * velocity.length_squared()
 
 
 def simulate(scenario: Scenario, every: int = 1, params: WorldParams | None = None) -> RunRecord:
