@@ -7,7 +7,10 @@
 * :mod:`.step_kernels` - the Forward Euler stepper over arrays (grid broad phase, contacts in
   a geometric order, sequential impulses, push-apart, events).
 * :mod:`.compiled` - the same kernels compiled by numba, for large worlds.
-* :mod:`.world` - :class:`World`: steps, runs, and records what happened.
+* :mod:`.stepper` - :class:`~.stepper.EulerStepper`: what a Forward Euler run keeps between
+  calls (scratch, the pairs in contact, buffers) and the one call that advances it.
+* :mod:`.exact` - the exact stepper (time of impact within each step; pure Python for now).
+* :mod:`.world` - :class:`World`: owns the state, steps it either way, records what happened.
 """
 
 from __future__ import annotations
