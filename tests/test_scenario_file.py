@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from collisionlab.demos import demo_names, demo_text, load_demo
 from collisionlab.model import Scenario
+from collisionlab.limits import MAX_SCENARIO_BYTES
 from collisionlab.scenario_file import ScenarioError, load_scenario, parse_scenario, scenario_to_toml
 from collisionlab.shapes import AABB, Plane, Sphere
 from collisionlab.world import simulate
@@ -101,6 +102,24 @@ BAD_FILES = [
         "cannot collide",
     ),
     ("not TOML", "[[body]\n", "file", "not valid TOML"),
+    # --- issue 11: what got through ---------------------------------------------------------------
+    ("nested 500 arrays deep", "[simulation]\nsteps = " + "[" * 500 + "]" * 500 + "\n" + BALL, "file", "nested"),
+    ("an integer of 400 digits", "[simulation]\nsteps = " + "9" * 400 + "\n" + BALL, "simulation.steps", "at most"),
+    ("a radius of 400 digits", BALL.replace("0.5", "9" * 400), "body[0].radius", "too large"),
+    ("2 velocity components for a sphere", BALL.replace("[0, -1, 0]", "[0, -1]"), "body[0].velocity", "3 numbers"),
+    ("2 position components for a sphere", BALL.replace("[0, 3, 0]", "[0, 3]"), "body[0].position", "3 numbers"),
+    ("an escape in a name", BALL.replace('"ball"', '"ba\\u001b[2Jll"'), "body[0].name", "control character"),
+    ("a newline in a name", BALL.replace('"ball"', '"ball\\ncollision at step 1"'), "body[0].name", "control"),
+    ("a NUL in a title", '[simulation]\ntitle = "a\\u0000b"\n' + BALL, "simulation.title", "control character"),
+    ("a speed beyond the range", BALL.replace("[0, -1, 0]", "[1e200, 0, 0]"), "body[0].velocity", "at most"),
+    ("a position beyond the range", BALL.replace("[0, 3, 0]", "[0, 3e300, 0]"), "body[0].position", "at most"),
+    ("dt beyond the range", "[simulation]\ndt = 1e308\n" + BALL, "simulation.dt", "at most"),
+    ("restitution beyond the range", "[simulation]\nrestitution = 1e308\n" + BALL, "simulation.restitution", "at most"),
+    ("gravity beyond the range", "[simulation]\ngravity = [0, -1e300, 0]\n" + BALL, "simulation.gravity", "at most"),
+    ("steps beyond the range", "[simulation]\nsteps = 100000000000000000000000\n" + BALL, "simulation.steps", "at most"),
+    ("a radius below the range", BALL.replace("0.5", "5e-324"), "body[0].radius", "at least"),
+    ("a mass beyond the range", BALL + "mass = 1e300\n", "body[0].mass", "at most"),
+    ("a plane point beyond the range", BALL + FLOOR.replace("[0, 0, 0]", "[0, -1e100, 0]"), "static[0].point", "at most"),
 ]
 
 
@@ -121,6 +140,38 @@ def test_a_bad_scenario_file_exits_65_naming_the_file_and_the_field(
     assert result.out == ""
     assert len(result.err.strip().splitlines()) == 1
     assert f"{path}: {field}: " in result.err and "Traceback" not in result.err
+
+
+def test_a_file_that_is_not_utf8_exits_65_naming_the_file(tmp_path: Path) -> None:
+    path = tmp_path / "f.toml"
+    path.write_bytes(b"\xff")
+    result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert result.err.strip() == f"collisionlab: invalid scenario: {path}: file: is not UTF-8 text (byte 0xff at offset 0)"
+
+
+def test_a_file_too_large_is_refused_before_it_is_read_whole(tmp_path: Path) -> None:
+    path = tmp_path / "big.toml"
+    path.write_text(BALL + "# " + "x" * MAX_SCENARIO_BYTES + "\n")
+    result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert f"{path}: file: is larger than {MAX_SCENARIO_BYTES:,} bytes" in result.err
+
+
+def test_an_endless_file_is_refused_without_reading_it_all() -> None:
+    # /dev/zero never ends: reading it whole grew to 3.8 GB. Only the limit (plus one byte) is read.
+    result = run_cli(["run", "/dev/zero"])
+    assert result.status == 65
+    assert "/dev/zero: file: is larger than" in result.err
+
+
+def test_a_huge_bad_value_is_shortened_in_the_message(tmp_path: Path) -> None:
+    path = tmp_path / "long.toml"
+    path.write_text(BALL.replace('"sphere"', '"' + "cube" * 100_000 + '"'))
+    result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert "body[0].shape" in result.err and "..." in result.err
+    assert len(result.err) < 300
 
 
 def test_a_missing_file_is_reported_without_a_traceback(tmp_path: Path) -> None:

@@ -6,7 +6,25 @@ names what was wrong, so that a command-line front end can print one line and no
 
 from __future__ import annotations
 
-__all__ = ["CollisionLabError", "InvalidInputError", "UnsupportedPairError"]
+__all__ = ["MESSAGE_VALUE_CHARS", "CollisionLabError", "InvalidInputError", "OutOfRangeError", "UnsupportedPairError", "shorten"]
+
+#: Characters: the longest value (or field name) an error message repeats; longer ones are cut
+#: in the middle, so a 100 MB bad value gives a one-line message, not a 100 MB line.
+MESSAGE_VALUE_CHARS = 60
+
+
+def shorten(text: str, limit: int = MESSAGE_VALUE_CHARS) -> str:
+    """``text`` cut to about ``limit`` characters, its start and end kept around "...".
+
+    >>> shorten("x" * 10, 6)
+    'xxx...xxx'
+    >>> shorten("short")
+    'short'
+    """
+    if len(text) <= limit:
+        return text
+    half = limit // 2
+    return f"{text[:half]}...{text[-half:]}"
 
 
 class CollisionLabError(Exception):
@@ -27,14 +45,27 @@ class InvalidInputError(CollisionLabError, ValueError):
         self.field = field
         self.problem = problem
         self.got = got
-        message = f"{field}: {problem}"
+        message = f"{shorten(field)}: {problem}"
         if got is not None:
-            message += f" (got {got!r})"
+            message += f" (got {_value_text(got)})"
         super().__init__(message)
 
     def renamed(self, field: str) -> InvalidInputError:
         """The same error reported under another field name (e.g. a scenario key path)."""
         return InvalidInputError(field, self.problem, self.got)
+
+
+def _value_text(got: object) -> str:
+    """``repr(got)``, shortened; a huge integer is described, not printed (its ``repr`` alone can
+    take seconds past 4300 digits and is refused by Python)."""
+    if isinstance(got, int) and not isinstance(got, bool) and got.bit_length() > 200:
+        return f"an integer of about {int(got.bit_length() * 0.30103)} digits"
+    return shorten(repr(got))
+
+
+class OutOfRangeError(CollisionLabError, ArithmeticError):
+    """A run whose numbers grew beyond the range collisionlab simulates (see
+    :mod:`collisionlab.limits`): the scenario's numbers are too large to simulate."""
 
 
 class UnsupportedPairError(CollisionLabError, TypeError):

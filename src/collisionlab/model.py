@@ -6,12 +6,14 @@ A :class:`Scenario` is plain, validated data; :class:`~collisionlab.world.World`
 from __future__ import annotations
 
 import math
+import unicodedata
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
 from .errors import InvalidInputError, UnsupportedPairError
 from .narrowphase import separation
 from .shapes import AABB, Circle, Line, Plane, Sphere
+from .limits import check_scenario
 from .validate import non_negative, positive, positive_or_inf, whole_number
 from .vector import Vector3D, as_vector
 
@@ -21,6 +23,23 @@ BodyShape = Circle | Sphere | AABB
 ObstacleShape = Line | Plane | AABB
 Mode = Literal["euler", "exact"]
 MODES: tuple[Mode, ...] = ("euler", "exact")
+
+
+def check_printable(text: str, field: str) -> str:
+    """``text`` when it holds no control or format character (an escape sequence, a newline, a
+    NUL, a bidi override): names and titles are printed, and must not forge output lines.
+
+    >>> check_printable("ball A", "name")
+    'ball A'
+    >>> check_printable("ball\\x1b[2J", "name")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: name: must not hold a control character (U+001B) (got 'ball\\x1b[2J')
+    """
+    for char in text:
+        if unicodedata.category(char) in ("Cc", "Cf", "Cs", "Zl", "Zp"):
+            raise InvalidInputError(field, f"must not hold a control character (U+{ord(char):04X})", got=text)
+    return text
 
 
 @dataclass(frozen=True)
@@ -106,7 +125,11 @@ class Scenario:
         if not self.bodies:
             raise InvalidInputError("body", "a scenario needs at least one moving body")
         names = [b.name for b in self.bodies] + [o.name for o in self.obstacles]
+        fields = [f"body[{i}].name" for i in range(len(self.bodies))]
+        fields += [f"static[{i}].name" for i in range(len(self.obstacles))]
+        check_printable(self.title, "simulation.title")
         for index, name in enumerate(names):
+            check_printable(name, fields[index])
             if not name:
                 raise InvalidInputError("name", "must not be empty")
             if name in names[:index]:
@@ -118,6 +141,7 @@ class Scenario:
                 separation(a.shape, b.shape)
             except UnsupportedPairError as error:
                 raise InvalidInputError(f"{b.name}", f"'{a.name}' and '{b.name}' cannot collide: {error}") from error
+        check_scenario(self)  # every magnitude within the range that can be simulated
 
     @property
     def dims(self) -> int:

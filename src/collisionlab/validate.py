@@ -25,7 +25,10 @@ def finite_number(value: object, field: str) -> float:
     """
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise InvalidInputError(field, "must be a number", got=value)
-    number = float(value)
+    try:
+        number = float(value)
+    except OverflowError:  # an integer (or Fraction) beyond the largest double, 1.8e308
+        raise InvalidInputError(field, "must be a finite number; this one is too large", got=value) from None
     if not math.isfinite(number):
         raise InvalidInputError(field, "must be a finite number", got=number)
     return number
@@ -49,18 +52,25 @@ def non_negative(value: object, field: str) -> float:
 
 def positive_or_inf(value: object, field: str) -> float:
     """A number > 0, where ``math.inf`` is allowed (a static body's mass)."""
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == math.inf:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == math.inf:
         return math.inf
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not float(value) > 0.0:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not value > 0:
         raise InvalidInputError(field, "must be > 0 (math.inf for a static body)", got=value)
     return positive(value, field)
 
 
 def whole_number(value: object, field: str, minimum: int = 1) -> int:
     """An integer >= ``minimum`` (floats with no fractional part are accepted)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral | numbers.Real):
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
-    number = float(value)
+    if isinstance(value, numbers.Integral):  # exact, however large (a range check comes later)
+        if int(value) < minimum:
+            raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
+        return int(value)
+    try:
+        number = float(value)
+    except OverflowError:
+        raise InvalidInputError(field, f"must be a whole number >= {minimum}; this one is too large", got=value) from None
     if not math.isfinite(number) or number != int(number) or number < minimum:
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
     return int(number)

@@ -1,0 +1,265 @@
+"""The range of magnitudes collisionlab simulates, decided here and nowhere else.
+
+A scenario is refused before it runs (:func:`check_scenario`, called by
+:class:`~collisionlab.model.Scenario`) when a number lies outside these bounds, with a one-line
+:class:`~collisionlab.errors.InvalidInputError` naming the field. Inside them every product the
+simulation forms (``m v^2``, ``m g x``, the squared distances of time of impact) stays far from
+overflow, and the absolute tolerances of :mod:`collisionlab.tolerances` (nanometres) still
+resolve the scene. A run whose numbers grow out of range anyway (restitution above 1 adds energy
+at each collision) stops with :class:`~collisionlab.errors.OutOfRangeError` at that step
+(:class:`RangeGuard`), so no output ever holds ``inf`` or ``NaN``.
+
+The bounds (SI units):
+
+==========================  ===================  ==============================================
+what                        range                why
+==========================  ===================  ==============================================
+coordinates (any point)     ``|x| <= 1e9`` m     ``ulp(1e9) ~ 1e-7`` m: ``CONTACT_MARGIN`` still
+                                                 resolves a contact there
+radius, box edge            ``1e-6 .. 1e9`` m    1000x the contact tolerances at the small end
+speed (each component)      ``<= 1e9`` m/s       ``m v^2`` stays below 1e50 J
+gravity (each component)    ``<= 1e9`` m/s^2
+mass                        ``1e-30 .. 1e30`` kg
+dt                          ``1e-9 .. 1e6`` s
+steps                       ``<= 1e7``, and      a run keeps every frame: about 0.5 kB per
+                            steps x bodies       body and step (2e7 of them: ~10 GB would not
+                            ``<= 2e7``           fit; the lead's streaming record lifts this)
+restitution                 ``0 .. 10``
+exact mode: travel per      ``<= 1e6`` x the     time of impact resolves a touch to about
+step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the distance
+                            half edge            travelled; beyond ~1e7 sizes per step it misses
+during a run: positions     ``|x| <= 1e12`` m,   beyond: the run stops (exit status 65)
+and speeds                  ``|v| <= 1e12`` m/s
+scenario file               ``<= 1,000,000``
+                            bytes
+==========================  ===================  ==============================================
+
+>>> within(2.0, "dt", MIN_DT, MAX_DT, "s")
+2.0
+>>> within(1e308, "dt", MIN_DT, MAX_DT, "s")
+Traceback (most recent call last):
+...
+collisionlab.errors.InvalidInputError: dt: must be at most 1e+06 s, the largest collisionlab simulates (got 1e+308)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+from .errors import InvalidInputError, OutOfRangeError
+from .vector import Vector3D
+
+if TYPE_CHECKING:
+    from .model import Scenario
+
+__all__ = [
+    "MAX_ACCELERATION",
+    "MAX_BODY_STEPS",
+    "MAX_COORDINATE",
+    "MAX_DT",
+    "MAX_MASS",
+    "MAX_RESTITUTION",
+    "MAX_RUN_COORDINATE",
+    "MAX_RUN_SPEED",
+    "MAX_SCENARIO_BYTES",
+    "MAX_SIZE",
+    "MAX_SPEED",
+    "MAX_STEPS",
+    "MAX_TRAVEL_PER_SIZE",
+    "MIN_DT",
+    "MIN_MASS",
+    "MIN_SIZE",
+    "RangeGuard",
+    "check_scenario",
+    "check_vector",
+    "within",
+]
+
+#: Metres: the largest coordinate of any point a scenario gives.
+MAX_COORDINATE = 1e9
+#: Metres: the smallest and largest radius or box edge.
+MIN_SIZE = 1e-6
+MAX_SIZE = 1e9
+#: m/s, per component.
+MAX_SPEED = 1e9
+#: m/s^2, per component of gravity.
+MAX_ACCELERATION = 1e9
+#: Kilograms.
+MIN_MASS = 1e-30
+MAX_MASS = 1e30
+#: Seconds.
+MIN_DT = 1e-9
+MAX_DT = 1e6
+#: Steps of one run, and steps times moving bodies (every frame is kept in memory).
+MAX_STEPS = 10_000_000
+MAX_BODY_STEPS = 20_000_000
+#: Dimensionless: the largest coefficient of restitution (above 1 each collision adds energy).
+MAX_RESTITUTION = 10.0
+#: Exact mode: how many times its smallest radius (or half edge) a body may travel relative to
+#: another in one step; measured: misses begin near 1e7-1e8 (tests/test_limits.py).
+MAX_TRAVEL_PER_SIZE = 1e6
+#: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
+MAX_RUN_COORDINATE = 1e12
+MAX_RUN_SPEED = 1e12
+#: Bytes: the largest scenario file read (a file is read up to this and one byte more).
+MAX_SCENARIO_BYTES = 1_000_000
+
+
+def within(value: float, field: str, low: float, high: float, unit: str = "") -> float:
+    """``value`` when ``low <= |value| <= high`` (``low = 0`` allows 0), else an error naming ``field``."""
+    units = f" {unit}" if unit else ""
+    if abs(value) > high:
+        raise InvalidInputError(field, f"must be at most {high:g}{units}, the largest collisionlab simulates", value)
+    if abs(value) < low:
+        raise InvalidInputError(field, f"must be at least {low:g}{units}, the smallest collisionlab simulates", value)
+    return value
+
+
+def check_vector(vector: Vector3D, field: str, high: float, unit: str) -> Vector3D:
+    """``vector`` when every component is at most ``high`` in size."""
+    for component in vector:
+        if abs(component) > high:
+            within(component, field, 0.0, high, unit)
+    return vector
+
+
+def _sizes(shape: object) -> list[float]:
+    """A body's radius, or its box's edges (the ones it has: 2 for a 2D box)."""
+    from .shapes import AABB
+
+    if isinstance(shape, AABB):
+        return list((shape.max_corner - shape.min_corner).as_tuple()[: shape.dim])
+    radius = getattr(shape, "radius", None)
+    return [] if radius is None else [float(radius)]
+
+
+def _points(shape: object) -> list[tuple[str, Vector3D]]:
+    """The points a shape is placed by, under the name a scenario file gives them."""
+    from .shapes import AABB, Circle, Line, Plane, Sphere
+
+    if isinstance(shape, AABB):
+        return [("position", shape.min_corner), ("position", shape.max_corner)]
+    if isinstance(shape, (Circle, Sphere)):
+        return [("position", shape.center)]
+    if isinstance(shape, (Line, Plane)):
+        return [("point", shape.point)]
+    return []
+
+
+def _smallest_half_size(shape: object) -> float:
+    sizes = _sizes(shape)
+    from .shapes import AABB
+
+    return min(sizes) * 0.5 if isinstance(shape, AABB) else min(sizes)
+
+
+def check_scenario(scenario: Scenario) -> None:
+    """Refuse a scenario with a number outside the range above, naming the field as a scenario
+    file does (``simulation.dt``, ``body[0].velocity``, ``static[1].point``)."""
+    s = scenario.settings
+    within(s.dt, "simulation.dt", MIN_DT, MAX_DT, "s")
+    within(s.steps, "simulation.steps", 0, MAX_STEPS)
+    if s.steps * len(scenario.bodies) > MAX_BODY_STEPS:
+        raise InvalidInputError(
+            "simulation.steps",
+            f"times the {len(scenario.bodies)} moving bodies must be at most {MAX_BODY_STEPS:,} (every frame is "
+            "kept in memory)",
+            s.steps,
+        )
+    within(s.restitution, "simulation.restitution", 0.0, MAX_RESTITUTION)
+    check_vector(s.gravity, "simulation.gravity", MAX_ACCELERATION, "m/s^2")
+    for index, body in enumerate(scenario.bodies):
+        where = f"body[{index}]"
+        for key, point in _points(body.shape):
+            check_vector(point, f"{where}.{key}", MAX_COORDINATE, "m")
+        for size in _sizes(body.shape):
+            within(size, f"{where}.{'radius' if hasattr(body.shape, 'radius') else 'size'}", MIN_SIZE, MAX_SIZE, "m")
+        check_vector(body.velocity, f"{where}.velocity", MAX_SPEED, "m/s")
+        within(body.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
+        if body.restitution is not None:
+            within(body.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
+    for index, obstacle in enumerate(scenario.obstacles):
+        where = f"static[{index}]"
+        for key, point in _points(obstacle.shape):
+            check_vector(point, f"{where}.{key}", MAX_COORDINATE, "m")
+        for size in _sizes(obstacle.shape):
+            within(size, f"{where}.size", MIN_SIZE, MAX_SIZE, "m")
+        if obstacle.restitution is not None:
+            within(obstacle.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
+    if s.mode == "exact":
+        _check_travel(scenario)
+
+
+def _check_travel(scenario: Scenario) -> None:
+    """Exact mode: two bodies may close by at most ``MAX_TRAVEL_PER_SIZE`` times the smallest
+    body's size in one step, else time of impact cannot resolve the touch (it would miss)."""
+    smallest = min(_smallest_half_size(b.shape) for b in scenario.bodies)
+    fastest = max(range(len(scenario.bodies)), key=lambda i: scenario.bodies[i].velocity.length())
+    speed = scenario.bodies[fastest].velocity.length()
+    closing = 2.0 * speed if len(scenario.bodies) > 1 else speed
+    if closing * scenario.settings.dt > MAX_TRAVEL_PER_SIZE * smallest:
+        raise InvalidInputError(
+            f"body[{fastest}].velocity",
+            f"moves {closing * scenario.settings.dt:.3g} m in a step of {scenario.settings.dt:g} s, more than "
+            f"{MAX_TRAVEL_PER_SIZE:g} times the smallest size ({smallest:g} m) that exact mode resolves; "
+            "use a smaller dt",
+            scenario.bodies[fastest].velocity.as_tuple(),
+        )
+
+
+class RangeGuard:
+    """Watches a run step by step: positions and speeds stay within ``MAX_RUN_COORDINATE`` and
+    ``MAX_RUN_SPEED`` (else :class:`OutOfRangeError`), and in exact mode a warning is given once
+    when bodies come to move too far per step for time of impact to resolve."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.names = [b.name for b in scenario.bodies]
+        self.dt = scenario.settings.dt
+        self.exact = scenario.settings.mode == "exact"
+        self.reach = MAX_TRAVEL_PER_SIZE * min(_smallest_half_size(b.shape) for b in scenario.bodies)
+        self.warned = False
+
+    def check(self, step: int, time: float, positions: Sequence[Vector3D], velocities: Sequence[Vector3D]) -> str | None:
+        """Raise when a body left the range; return a warning (once) when exact mode may miss."""
+        fastest = 0.0
+        for name, x, v in zip(self.names, positions, velocities, strict=True):
+            if max(abs(x.x), abs(x.y), abs(x.z)) > MAX_RUN_COORDINATE:
+                raise OutOfRangeError(
+                    f"step {step} (t = {time:g} s): '{name}' reached position {_short(x)}, beyond the "
+                    f"{MAX_RUN_COORDINATE:g} m collisionlab simulates: the scenario's numbers are too large to simulate"
+                )
+            if max(abs(v.x), abs(v.y), abs(v.z)) > MAX_RUN_SPEED:
+                raise OutOfRangeError(
+                    f"step {step} (t = {time:g} s): '{name}' reached velocity {_short(v)}, beyond the "
+                    f"{MAX_RUN_SPEED:g} m/s collisionlab simulates: the scenario's numbers are too large to simulate "
+                    "(restitution above 1 adds energy at every collision)"
+                )
+            fastest = max(fastest, v.length())
+        closing = 2.0 * fastest if len(self.names) > 1 else fastest
+        if self.exact and not self.warned and closing * self.dt > self.reach:
+            self.warned = True
+            return (
+                f"from step {step} bodies close by {closing * self.dt:.3g} m per step, more than {MAX_TRAVEL_PER_SIZE:g} "
+                "times the smallest body's size: time of impact may miss collisions; use a smaller dt"
+            )
+        return None
+
+    def overflowed(self, step: int, error: Exception) -> OutOfRangeError:
+        """The error for a number that overflowed during ``step`` (``error`` says which)."""
+        return OutOfRangeError(
+            f"step {step}: a number overflowed ({error}): the scenario's numbers are too large to simulate"
+        )
+
+
+def _short(v: Vector3D) -> str:
+    return "(" + ", ".join(f"{c:.3g}" for c in v) + ")"
+
+
+def is_overflow(error: Exception) -> bool:
+    """Whether an error raised during a step is a number that overflowed (inf or NaN)."""
+    if isinstance(error, ArithmeticError):
+        return True
+    got = getattr(error, "got", None)
+    return isinstance(error, InvalidInputError) and isinstance(got, float) and not math.isfinite(got)
