@@ -452,10 +452,10 @@ def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: 
     # A terminal on stdin makes the run draw its progress bar (after a second): once it shows, the
     # run is under way; Ctrl-C then must leave neither the output file nor a temporary one.
     target = tmp_path / "out.txt"
-    argv = ["demo", "spheres", "--steps", "100000000", "--quiet", "--output", str(target)]
+    argv = ["demo", "spheres", "--steps", "1000000", "--quiet", "--output", str(target)]
     with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
         assert process.stderr is not None
-        read_until(process.stderr.fileno(), b"/100000000")
+        read_until(process.stderr.fileno(), b"/1000000")
         process.send_signal(signal.SIGINT)
         status, err = finish(process)
     assert status == 130

@@ -13,8 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from collisionlab.demos import demo_names, demo_text, load_demo
-from collisionlab.model import Scenario
 from collisionlab.limits import MAX_SCENARIO_BYTES
+from collisionlab.model import Scenario
 from collisionlab.scenario_file import ScenarioError, load_scenario, parse_scenario, scenario_to_toml
 from collisionlab.shapes import AABB, Plane, Sphere
 from collisionlab.world import simulate
@@ -116,10 +116,20 @@ BAD_FILES = [
     ("dt beyond the range", "[simulation]\ndt = 1e308\n" + BALL, "simulation.dt", "at most"),
     ("restitution beyond the range", "[simulation]\nrestitution = 1e308\n" + BALL, "simulation.restitution", "at most"),
     ("gravity beyond the range", "[simulation]\ngravity = [0, -1e300, 0]\n" + BALL, "simulation.gravity", "at most"),
-    ("steps beyond the range", "[simulation]\nsteps = 100000000000000000000000\n" + BALL, "simulation.steps", "at most"),
+    (
+        "steps beyond the range",
+        "[simulation]\nsteps = 100000000000000000000000\n" + BALL,
+        "simulation.steps",
+        "at most",
+    ),
     ("a radius below the range", BALL.replace("0.5", "5e-324"), "body[0].radius", "at least"),
     ("a mass beyond the range", BALL + "mass = 1e300\n", "body[0].mass", "at most"),
-    ("a plane point beyond the range", BALL + FLOOR.replace("[0, 0, 0]", "[0, -1e100, 0]"), "static[0].point", "at most"),
+    (
+        "a plane point beyond the range",
+        BALL + FLOOR.replace("[0, 0, 0]", "[0, -1e100, 0]"),
+        "static[0].point",
+        "at most",
+    ),
 ]
 
 
@@ -147,7 +157,9 @@ def test_a_file_that_is_not_utf8_exits_65_naming_the_file(tmp_path: Path) -> Non
     path.write_bytes(b"\xff")
     result = run_cli(["run", str(path)])
     assert result.status == 65
-    assert result.err.strip() == f"collisionlab: invalid scenario: {path}: file: is not UTF-8 text (byte 0xff at offset 0)"
+    assert (
+        result.err.strip() == f"collisionlab: invalid scenario: {path}: file: is not UTF-8 text (byte 0xff at offset 0)"
+    )
 
 
 def test_a_file_too_large_is_refused_before_it_is_read_whole(tmp_path: Path) -> None:

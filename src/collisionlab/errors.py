@@ -6,7 +6,14 @@ names what was wrong, so that a command-line front end can print one line and no
 
 from __future__ import annotations
 
-__all__ = ["MESSAGE_VALUE_CHARS", "CollisionLabError", "InvalidInputError", "OutOfRangeError", "UnsupportedPairError", "shorten"]
+__all__ = [
+    "MESSAGE_VALUE_CHARS",
+    "CollisionLabError",
+    "InvalidInputError",
+    "OutOfRangeError",
+    "UnsupportedPairError",
+    "shorten",
+]
 
 #: Characters: the longest value (or field name) an error message repeats; longer ones are cut
 #: in the middle, so a 100 MB bad value gives a one-line message, not a 100 MB line.
@@ -65,7 +72,15 @@ def _value_text(got: object) -> str:
 
 class OutOfRangeError(CollisionLabError, ArithmeticError):
     """A run whose numbers grew beyond the range collisionlab simulates (see
-    :mod:`collisionlab.limits`): the scenario's numbers are too large to simulate."""
+    :mod:`collisionlab.limits`): the scenario's numbers are too large to simulate.
+
+    >>> str(OutOfRangeError("step 3: too large").within("drop.toml"))
+    'drop.toml: step 3: too large'
+    """
+
+    def within(self, source: str) -> OutOfRangeError:
+        """The same error, naming the scenario's file (or demo) first."""
+        return OutOfRangeError(f"{source}: {self}")
 
 
 class UnsupportedPairError(CollisionLabError, TypeError):

@@ -21,9 +21,8 @@ speed (each component)      ``<= 1e9`` m/s       ``m v^2`` stays below 1e50 J
 gravity (each component)    ``<= 1e9`` m/s^2
 mass                        ``1e-30 .. 1e30`` kg
 dt                          ``1e-9 .. 1e6`` s
-steps                       ``<= 1e7``, and      a run keeps every frame: about 0.5 kB per
-                            steps x bodies       body and step (2e7 of them: ~10 GB would not
-                            ``<= 2e7``           fit; the lead's streaming record lifts this)
+steps x moving bodies       ``<= 2e6``           a run keeps every frame: 0.40-0.46 kB per
+                                                 body and step (measured), so at most ~1 GB
 restitution                 ``0 .. 10``
 exact mode: travel per      ``<= 1e6`` x the     time of impact resolves a touch to about
 step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the distance
@@ -49,6 +48,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from .errors import InvalidInputError, OutOfRangeError
+from .validate import non_negative, positive, whole_number
 from .vector import Vector3D
 
 if TYPE_CHECKING:
@@ -74,6 +74,10 @@ __all__ = [
     "RangeGuard",
     "check_scenario",
     "check_vector",
+    "dt",
+    "is_overflow",
+    "restitution",
+    "steps",
     "within",
 ]
 
@@ -92,9 +96,11 @@ MAX_MASS = 1e30
 #: Seconds.
 MIN_DT = 1e-9
 MAX_DT = 1e6
-#: Steps of one run, and steps times moving bodies (every frame is kept in memory).
-MAX_STEPS = 10_000_000
-MAX_BODY_STEPS = 20_000_000
+#: Steps times moving bodies of one run: every frame is kept in memory, 0.40-0.46 kB per body
+#: and step (measured with tracemalloc on the spheres and newtons-cradle demos), so ~1 GB here.
+MAX_BODY_STEPS = 2_000_000
+#: Steps of one run (a single body): the same bound.
+MAX_STEPS = MAX_BODY_STEPS
 #: Dimensionless: the largest coefficient of restitution (above 1 each collision adds energy).
 MAX_RESTITUTION = 10.0
 #: Exact mode: how many times its smallest radius (or half edge) a body may travel relative to
@@ -115,6 +121,23 @@ def within(value: float, field: str, low: float, high: float, unit: str = "") ->
     if abs(value) < low:
         raise InvalidInputError(field, f"must be at least {low:g}{units}, the smallest collisionlab simulates", value)
     return value
+
+
+def dt(value: object, field: str) -> float:
+    """A time step: a number > 0 within ``[MIN_DT, MAX_DT]`` (a flag's check, as a file's)."""
+    return within(positive(value, field), field, MIN_DT, MAX_DT, "s")
+
+
+def steps(value: object, field: str) -> int:
+    """A number of steps: a whole number >= 1, at most ``MAX_STEPS``."""
+    count = whole_number(value, field, minimum=1)
+    within(count, field, 0, MAX_STEPS)
+    return count
+
+
+def restitution(value: object, field: str) -> float:
+    """A coefficient of restitution in ``[0, MAX_RESTITUTION]``."""
+    return within(non_negative(value, field), field, 0.0, MAX_RESTITUTION)
 
 
 def check_vector(vector: Vector3D, field: str, high: float, unit: str) -> Vector3D:
@@ -192,19 +215,31 @@ def check_scenario(scenario: Scenario) -> None:
         _check_travel(scenario)
 
 
+def _closing(speeds: Sequence[float]) -> float:
+    """The fastest two bodies can close on each other: the sum of the two largest speeds."""
+    top = sorted(speeds, reverse=True)[:2]
+    return sum(top)
+
+
+def _reach(scenario: Scenario) -> float:
+    """How far bodies may close in one step in exact mode: ``MAX_TRAVEL_PER_SIZE`` times the
+    smallest sum of two bodies' sizes (radius, or half the shortest edge), the distance at which
+    time of impact must resolve a touch; a lone body against obstacles, its own size."""
+    sizes = sorted(_smallest_half_size(b.shape) for b in scenario.bodies)[:2]
+    return MAX_TRAVEL_PER_SIZE * sum(sizes)
+
+
 def _check_travel(scenario: Scenario) -> None:
-    """Exact mode: two bodies may close by at most ``MAX_TRAVEL_PER_SIZE`` times the smallest
-    body's size in one step, else time of impact cannot resolve the touch (it would miss)."""
-    smallest = min(_smallest_half_size(b.shape) for b in scenario.bodies)
-    fastest = max(range(len(scenario.bodies)), key=lambda i: scenario.bodies[i].velocity.length())
-    speed = scenario.bodies[fastest].velocity.length()
-    closing = 2.0 * speed if len(scenario.bodies) > 1 else speed
-    if closing * scenario.settings.dt > MAX_TRAVEL_PER_SIZE * smallest:
+    """Exact mode: two bodies may close by at most ``_reach`` in one step, else time of impact
+    cannot resolve the touch (measured: it misses beyond ~1e7 sizes per step)."""
+    speeds = [b.velocity.length() for b in scenario.bodies]
+    travel = _closing(speeds) * scenario.settings.dt
+    if travel > _reach(scenario):
+        fastest = max(range(len(speeds)), key=speeds.__getitem__)
         raise InvalidInputError(
             f"body[{fastest}].velocity",
-            f"moves {closing * scenario.settings.dt:.3g} m in a step of {scenario.settings.dt:g} s, more than "
-            f"{MAX_TRAVEL_PER_SIZE:g} times the smallest size ({smallest:g} m) that exact mode resolves; "
-            "use a smaller dt",
+            f"bodies close by {travel:.3g} m in a step of {scenario.settings.dt:g} s, more than "
+            f"{MAX_TRAVEL_PER_SIZE:g} times their sizes, beyond what exact mode resolves; use a smaller dt",
             scenario.bodies[fastest].velocity.as_tuple(),
         )
 
@@ -218,12 +253,14 @@ class RangeGuard:
         self.names = [b.name for b in scenario.bodies]
         self.dt = scenario.settings.dt
         self.exact = scenario.settings.mode == "exact"
-        self.reach = MAX_TRAVEL_PER_SIZE * min(_smallest_half_size(b.shape) for b in scenario.bodies)
+        self.reach = _reach(scenario)
         self.warned = False
 
-    def check(self, step: int, time: float, positions: Sequence[Vector3D], velocities: Sequence[Vector3D]) -> str | None:
+    def check(
+        self, step: int, time: float, positions: Sequence[Vector3D], velocities: Sequence[Vector3D]
+    ) -> str | None:
         """Raise when a body left the range; return a warning (once) when exact mode may miss."""
-        fastest = 0.0
+        speeds = []
         for name, x, v in zip(self.names, positions, velocities, strict=True):
             if max(abs(x.x), abs(x.y), abs(x.z)) > MAX_RUN_COORDINATE:
                 raise OutOfRangeError(
@@ -236,13 +273,14 @@ class RangeGuard:
                     f"{MAX_RUN_SPEED:g} m/s collisionlab simulates: the scenario's numbers are too large to simulate "
                     "(restitution above 1 adds energy at every collision)"
                 )
-            fastest = max(fastest, v.length())
-        closing = 2.0 * fastest if len(self.names) > 1 else fastest
+            speeds.append(v.length())
+        closing = _closing(speeds)
         if self.exact and not self.warned and closing * self.dt > self.reach:
             self.warned = True
             return (
-                f"from step {step} bodies close by {closing * self.dt:.3g} m per step, more than {MAX_TRAVEL_PER_SIZE:g} "
-                "times the smallest body's size: time of impact may miss collisions; use a smaller dt"
+                f"from step {step} bodies close by {closing * self.dt:.3g} m per step, more than "
+                f"{MAX_TRAVEL_PER_SIZE:g} times the smallest body's size: time of impact may miss collisions; "
+                "use a smaller dt"
             )
         return None
 

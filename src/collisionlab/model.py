@@ -11,9 +11,9 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 from .errors import InvalidInputError, UnsupportedPairError
+from .limits import check_scenario
 from .narrowphase import separation
 from .shapes import AABB, Circle, Line, Plane, Sphere
-from .limits import check_scenario
 from .validate import non_negative, positive, positive_or_inf, whole_number
 from .vector import Vector3D, as_vector
 

@@ -54,7 +54,7 @@ def positive_or_inf(value: object, field: str) -> float:
     """A number > 0, where ``math.inf`` is allowed (a static body's mass)."""
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == math.inf:
         return math.inf
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not value > 0:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not value > 0:  # type: ignore[operator]
         raise InvalidInputError(field, "must be > 0 (math.inf for a static body)", got=value)
     return positive(value, field)
 
@@ -70,7 +70,9 @@ def whole_number(value: object, field: str, minimum: int = 1) -> int:
     try:
         number = float(value)
     except OverflowError:
-        raise InvalidInputError(field, f"must be a whole number >= {minimum}; this one is too large", got=value) from None
+        raise InvalidInputError(
+            field, f"must be a whole number >= {minimum}; this one is too large", got=value
+        ) from None
     if not math.isfinite(number) or number != int(number) or number < minimum:
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
     return int(number)

@@ -36,6 +36,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from .contact import Separation
+from .errors import InvalidInputError
+from .limits import RangeGuard, is_overflow
 from .model import Body, Obstacle, Scenario
 from .narrowphase import separation
 from .record import BodyState, CollisionEvent, Frame, RunRecord, SkippedContact
@@ -586,8 +588,17 @@ class World:
         total = self.scenario.settings.steps
         if not self.record.frames:
             self.record.frames.append(self.frame())
+        guard = RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
         while self.step_index < total:
-            self.step()
+            try:
+                self.step()
+            except (InvalidInputError, ArithmeticError) as error:
+                if not is_overflow(error):
+                    raise
+                raise guard.overflowed(self.step_index, error) from None
+            warning = guard.check(self.step_index, self.time, self.positions, self.velocities)
+            if warning:
+                self.record.warnings.append(warning)
             if self.step_index % every == 0 or self.step_index == total:
                 self.record.frames.append(self.frame())
             if progress is not None:

@@ -11,7 +11,7 @@ import sys
 from collections.abc import Sequence
 
 from .. import __version__
-from ..errors import CollisionLabError, InvalidInputError
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError
 from ..scenario_file import ScenarioError
 from . import gas_command
 from .menu import run_menu
@@ -95,7 +95,7 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
         return EXIT_USAGE
     except SystemExit as stop:  # --help and argparse's own exits
         return stop.code if isinstance(stop.code, int) else EXIT_FAILURE
-    except ScenarioError as error:
+    except (ScenarioError, OutOfRangeError) as error:  # bad data, or numbers too large to simulate
         streams.err(f"collisionlab: invalid scenario: {error}")
         return EXIT_DATA
     except InvalidInputError as error:

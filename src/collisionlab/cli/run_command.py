@@ -7,13 +7,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
+from .. import limits
 from ..atomic import write_text_atomically
 from ..demos import LAB_DEMOS, demo_names, load_demo
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, OutOfRangeError
 from ..model import Scenario
 from ..record import RunRecord
 from ..scenario_file import load_scenario
-from ..validate import non_negative, positive, whole_number
+from ..validate import whole_number
 from ..world import World
 from .progress import ProgressBar
 from .render import render
@@ -43,14 +44,15 @@ def _flag_value(
     return convert
 
 
-positive_float = _flag_value(positive)
-non_negative_float = _flag_value(non_negative)
 positive_int = _flag_value(whole_number, int, "a whole number >= 1")
+dt_flag = _flag_value(limits.dt)
+restitution_flag = _flag_value(limits.restitution)
+steps_flag = _flag_value(limits.steps, int, "a whole number >= 1")
 
 
 def _add_common(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--steps", type=positive_int, help="number of steps (overrides the scenario)")
-    parser.add_argument("--dt", type=positive_float, help="time step in seconds (overrides the scenario)")
+    parser.add_argument("--steps", type=steps_flag, help="number of steps (overrides the scenario)")
+    parser.add_argument("--dt", type=dt_flag, help="time step in seconds (overrides the scenario)")
     parser.add_argument(
         "--mode",
         choices=("euler", "exact"),
@@ -58,7 +60,7 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--restitution",
-        type=non_negative_float,
+        type=restitution_flag,
         metavar="E",
         help="default coefficient of restitution (overrides the scenario; > 1 adds energy)",
     )
@@ -89,7 +91,7 @@ def add_run_parsers(sub: Any) -> None:
 
 
 def _run_file(args: argparse.Namespace, streams: Streams) -> int:
-    return execute([load_scenario(args.file)], args, streams)
+    return execute([load_scenario(args.file)], args, streams, [args.file])
 
 
 def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
@@ -98,7 +100,7 @@ def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
             streams.out(f"{name:<16}{load_demo(name).title}")
         return 0
     names = [args.name] if args.name else list(LAB_DEMOS)
-    return execute([load_demo(n) for n in names], args, streams)
+    return execute([load_demo(n) for n in names], args, streams, [f"demo {n}" for n in names])
 
 
 def _suffixed(path: str, scenario: Scenario, many: bool) -> str:
@@ -127,8 +129,11 @@ def _pictures(record: RunRecord, scenario: Scenario, args: argparse.Namespace, s
             streams.err(f"wrote {path}")
 
 
-def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Streams) -> int:
-    """Apply the flags to each scenario, run it, and print or write the output."""
+def execute(
+    scenarios: list[Scenario], args: argparse.Namespace, streams: Streams, sources: list[str] | None = None
+) -> int:
+    """Apply the flags to each scenario, run it, and print or write the output. ``sources``
+    (a file or a demo for each scenario) name it when its run goes out of range."""
     if args.plot or args.animate or args.html:
         from .. import plotting  # matplotlib and plotly load only when a picture is asked for
 
@@ -136,12 +141,18 @@ def execute(scenarios: list[Scenario], args: argparse.Namespace, streams: Stream
     overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
     texts: list[str] = []
     records: list[RunRecord] = []
-    for scenario in scenarios:
+    for index, scenario in enumerate(scenarios):
         if overrides:
-            scenario = scenario.with_settings(**overrides)
+            try:
+                scenario = scenario.with_settings(**overrides)
+            except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
+                flag = error.field.replace("simulation.", "--")
+                raise error.renamed(flag) if flag[2:] in overrides else error from None
         bar = ProgressBar(streams, scenario.title)
         try:
             record = World(scenario).run(progress=bar)
+        except OutOfRangeError as error:
+            raise error.within(sources[index]) if sources else error from None
         finally:
             bar.close()
         records.append(record)
