@@ -130,16 +130,24 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
 
         >>> Vector3D(0, 3, 4).normalized()
         Vector3D(x=0.0, y=0.6, z=0.8)
+        >>> Vector3D(0, 1.7e308, 1.7e308).normalized()   # scaled first: no overflow to inf
+        Vector3D(x=0.0, y=0.7071067811865476, z=0.7071067811865476)
         >>> Vector3D(0, 0, 0).normalized("direction")
         Traceback (most recent call last):
         ...
         collisionlab.errors.InvalidInputError: direction: must not be the zero vector \
 (got (0.0, 0.0, 0.0))
         """
-        length = self.length()
-        if length == 0.0:
+        largest = max(abs(self.x), abs(self.y), abs(self.z))
+        if largest == 0.0:
             raise InvalidInputError(field, "must not be the zero vector", got=self.as_tuple())
-        return Vector3D(self.x / length, self.y / length, self.z / length)
+        # Scaled first by a power of two (exact) to a largest component in [0.5, 1): the length
+        # of (0, 1.7e308, 1.7e308) would overflow to inf, and that of a subnormal vector round
+        # too coarsely; the scaled length lies in [0.5, 1.8) and the quotients are unit.
+        exponent = math.frexp(largest)[1]
+        x, y, z = (math.ldexp(c, -exponent) for c in self.as_tuple())
+        length = math.hypot(x, y, z)
+        return Vector3D(x / length, y / length, z / length)
 
     # --- lab part I ------------------------------------------------------------------------
     def parallel_projection(self, onto: VectorLike) -> Vector3D:
