@@ -29,6 +29,8 @@ step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the d
                             half edge            travelled; beyond ~1e7 sizes per step it misses
 during a run: positions     ``|x| <= 1e12`` m,   beyond: the run stops (exit status 65)
 and speeds                  ``|v| <= 1e12`` m/s
+gas: speeds during a run    ``<= 1e100``         the balls stay in their box; only squares
+                                                 can overflow
 scenario file               ``<= 1,000,000``
                             bytes
 ==========================  ===================  ==============================================
@@ -59,6 +61,7 @@ __all__ = [
     "MAX_BODY_STEPS",
     "MAX_COORDINATE",
     "MAX_DT",
+    "MAX_GAS_SPEED",
     "MAX_MASS",
     "MAX_RESTITUTION",
     "MAX_RUN_COORDINATE",
@@ -109,6 +112,10 @@ MAX_TRAVEL_PER_SIZE = 1e6
 #: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
 MAX_RUN_COORDINATE = 1e12
 MAX_RUN_SPEED = 1e12
+#: Radii per time unit: the many-body gas (``collisionlab gas``) stops when a speed passes this.
+#: Its balls stay in their box, so only the squares (energies) can overflow: 1e100 leaves 200
+#: orders of magnitude, far more than one step of collisions can add at e <= MAX_RESTITUTION.
+MAX_GAS_SPEED = 1e100
 #: Bytes: the largest scenario file read (a file is read up to this and one byte more).
 MAX_SCENARIO_BYTES = 1_000_000
 
@@ -116,6 +123,8 @@ MAX_SCENARIO_BYTES = 1_000_000
 def within(value: float, field: str, low: float, high: float, unit: str = "") -> float:
     """``value`` when ``low <= |value| <= high`` (``low = 0`` allows 0), else an error naming ``field``."""
     units = f" {unit}" if unit else ""
+    if not math.isfinite(value):
+        raise InvalidInputError(field, "must be a finite number", value)
     if abs(value) > high:
         raise InvalidInputError(field, f"must be at most {high:g}{units}, the largest collisionlab simulates", value)
     if abs(value) < low:

@@ -8,9 +8,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from .. import limits
-from ..atomic import write_text_atomically
+from ..atomic import check_target, write_text_atomically
 from ..demos import LAB_DEMOS, demo_names, load_demo
-from ..errors import InvalidInputError, OutOfRangeError
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError
 from ..model import Scenario
 from ..record import RunRecord
 from ..scenario_file import load_scenario
@@ -138,6 +138,8 @@ def execute(
         from .. import plotting  # matplotlib and plotly load only when a picture is asked for
 
         plotting.check_paths(args.plot, args.animate, args.html)  # fail now, not after the run
+    if args.output is not None:
+        check_target(args.output, "--output")  # as the pictures: before the run
     overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
     texts: list[str] = []
     records: list[RunRecord] = []
@@ -171,8 +173,11 @@ def execute(
         text = parts[0] + "\n" if len(parts) == 1 else "[\n" + ",\n".join(parts) + "\n]\n"
     else:
         text = "\n".join(texts)
-    if args.output:
-        write_text_atomically(args.output, lambda: text)
+    if args.output is not None:
+        try:
+            write_text_atomically(args.output, lambda: text)
+        except OSError as error:
+            raise CollisionLabError(f"--output: cannot write {args.output}: {error.strerror or error}") from None
         streams.err(f"wrote {args.output}")
     else:
         streams.stdout.write(text)
