@@ -17,8 +17,6 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from collisionlab.demos import LAB_DEMOS, demo_names
 from tests.cli_helpers import EXAMPLE_NAMES, SCRIPT, example, files_in, finish, on_a_terminal, read_until, run_cli
@@ -596,22 +594,5 @@ def test_version() -> None:
     assert result.status == 0 and result.out.strip() == f"collisionlab {__version__}"
 
 
-@settings(max_examples=int(os.environ.get("COLLISIONLAB_EXAMPLES", "150")), deadline=None)
-@given(
-    st.lists(
-        st.sampled_from(
-            ["run", "demo", "menu", "spheres", "head-on", "nope", "--steps", "--dt", "--every", "--mode", "--format",
-             "--restitution", "--quiet", "--explain", "--list", "euler", "exact", "json", "csv", "table", "3", "0",
-             "-1", "0.01", "nan", "x", "--help", "--bogus", "examples/none.toml"]
-        ),
-        max_size=6,
-    )
-)  # fmt: skip
-def test_any_command_line_ends_in_a_known_status_without_a_traceback(argv: list[str]) -> None:
-    # Random words from the command line's vocabulary (nothing that writes files): whatever the mix,
-    # the status is one of the documented ones and nothing escapes as a traceback.
-    if "--steps" not in argv:
-        argv = [*argv, "--steps", "3"]  # keep the runs short
-    result = run_cli(argv, stdin="")
-    assert result.status in (0, 1, 2, 65)
-    assert "Traceback" not in result.err and "unexpected error" not in result.err
+# Any command line ending in a known status without a traceback: tests/test_fuzz_command_line.py
+# (the same vocabulary and more, driven by tests/fuzz_harness.py).

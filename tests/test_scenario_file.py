@@ -4,13 +4,10 @@ naming the file, the field and the expected form), and the round trip through sc
 from __future__ import annotations
 
 import math
-import os
 import tomllib
 from pathlib import Path
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
 from collisionlab.demos import demo_names, demo_text, load_demo
 from collisionlab.limits import MAX_SCENARIO_BYTES
@@ -284,34 +281,5 @@ def test_a_sphere_is_written_with_its_radius() -> None:
 
 
 # --- fuzz: whatever a file holds, the answer is a scenario or one ScenarioError ------------------
-_LEAVES = st.one_of(
-    st.none(),
-    st.booleans(),
-    st.integers(-5, 5),
-    st.floats(allow_nan=True, allow_infinity=True),
-    st.text(max_size=6),
-    st.sampled_from(["circle", "sphere", "aabb", "line", "plane", "euler", "exact"]),
-)
-_VALUES = st.recursive(_LEAVES, lambda inner: st.lists(inner, max_size=4), max_leaves=8)
-_KEYS = st.sampled_from(
-    ["name", "shape", "position", "radius", "size", "velocity", "mass", "restitution", "point", "normal",
-     "points", "direction", "dt", "steps", "gravity", "mode", "title", "bogus"]
-)  # fmt: skip
-_TABLES = st.dictionaries(_KEYS, _VALUES, max_size=6)
-
-
-@settings(max_examples=int(os.environ.get("COLLISIONLAB_EXAMPLES", "300")))
-@given(
-    simulation=_TABLES,
-    bodies=st.one_of(st.lists(_TABLES, max_size=3), _VALUES),
-    statics=st.one_of(st.lists(_TABLES, max_size=3), _VALUES),
-)
-def test_any_data_gives_a_scenario_or_one_scenario_error(simulation: dict, bodies: object, statics: object) -> None:
-    data = {"simulation": simulation, "body": bodies, "static": statics}
-    try:
-        scenario = parse_scenario(data, "fuzz.toml")
-    except ScenarioError as error:
-        message = str(error)
-        assert message.startswith("fuzz.toml: ") and "\n" not in message
-    else:
-        assert isinstance(scenario, Scenario)
+# Moved to tests/test_fuzz_scenario_data.py (the same tables of any keys and values, plus plausible
+# scenarios over the whole float range, run and rendered), driven by tests/fuzz_harness.py.

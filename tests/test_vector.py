@@ -11,6 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from collisionlab import InvalidInputError, Line, Plane, Vector3D
+from collisionlab.errors import OutOfRangeError
 from collisionlab.vector import as_vector
 from tests.strategies import directions, vectors
 
@@ -228,3 +229,12 @@ def test_normalized_has_unit_length_over_the_whole_float_range(v: Vector3D) -> N
     for component, unit in zip(v, u, strict=True):
         assert unit == 0.0 or math.copysign(1.0, unit) == math.copysign(1.0, component)
         assert (component == 0.0) == (unit == 0.0) or abs(unit) < 1e-300
+
+
+def test_a_dot_product_or_length_that_overflows_is_the_librarys_error_not_inf() -> None:
+    # (-1, 1e308) . (0, 3) = 3e308 > 1.8e308: it was returned as inf.
+    with pytest.raises(OutOfRangeError):
+        Vector3D(-1.0, 1e308).dot((0.01, 3.0, 2.5))
+    with pytest.raises(OutOfRangeError):
+        Vector3D(1.7e308, 1.7e308).length()
+    assert Vector3D(1e308, 0).length() == 1e308

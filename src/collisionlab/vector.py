@@ -11,7 +11,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from math import isfinite
 
-from .errors import InvalidInputError
+from .errors import InvalidInputError, OutOfRangeError
 from .validate import finite_number
 
 __all__ = ["Vector3D", "VectorLike", "as_vector"]
@@ -100,8 +100,18 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         return Vector3D(-self.x, -self.y, -self.z)
 
     def dot(self, other: VectorLike) -> float:
+        """``x x' + y y' + z z'``; a product too large for a double raises :class:`OutOfRangeError`.
+
+        >>> Vector3D(1e308, 0).dot((10, 0))
+        Traceback (most recent call last):
+        ...
+        collisionlab.errors.OutOfRangeError: dot product: overflows (the vectors are too long)
+        """
         o = as_vector(other, "other")
-        return self.x * o.x + self.y * o.y + self.z * o.z
+        result = self.x * o.x + self.y * o.y + self.z * o.z
+        if not isfinite(result):
+            raise OutOfRangeError("dot product: overflows (the vectors are too long)")
+        return result
 
     def cross(self, other: VectorLike) -> Vector3D:
         """The cross product ``self x other`` (lab part I.A.3).
@@ -123,7 +133,10 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
 
     def length(self) -> float:
         # hypot avoids overflow/underflow of the squares for very large or small components.
-        return math.hypot(self.x, self.y, self.z)
+        result = math.hypot(self.x, self.y, self.z)
+        if result == math.inf:  # only above 1.8e308: (1.7e308, 1.7e308) has no double length
+            raise OutOfRangeError("length: overflows (the vector is too long)")
+        return result
 
     def normalized(self, field: str = "vector") -> Vector3D:
         """The unit vector along ``self``; a zero vector is refused, naming ``field``.
