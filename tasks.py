@@ -89,7 +89,7 @@ def bench() -> None:
 def fuzz() -> None:
     """The fuzz suite's harness (tests/fuzz_harness.py) at 100,000 inputs or more."""
     setup("dev")
-    sh(PYTHON, "-m", "tests.fuzz_harness", *(sys.argv[2:] or ["--inputs", "100000"]))
+    sh(PYTHON, "-m", "tests.fuzz_harness", *(sys.argv[2:] or ["--inputs", "100000", "--jobs", "3"]))
 
 
 TASKS = {"run": run, "test": test, "bench": bench, "fuzz": fuzz}

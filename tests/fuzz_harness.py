@@ -24,9 +24,9 @@ all and prints the counts by outcome.
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import json
 import math
-import random
 import sys
 import tempfile
 import time
@@ -552,12 +552,12 @@ def guarded(probe: Callable[[Any], Outcome], value: Any) -> Outcome:
         return Outcome("FAILURE", f"{type(error).__name__}: {str(error)[:300]}")
 
 
-def explore(name: str, count: int, seed: int = 0) -> tuple[Counter[str], list[tuple[Any, Outcome]]]:
-    """``count`` inputs of surface ``name`` (hypothesis, derandomized by ``seed``): the counts by
-    outcome and the failures with their inputs."""
+def explore(name: str, count: int) -> tuple[Counter[str], list[str]]:
+    """``count`` inputs of surface ``name`` (hypothesis, derandomized: the same inputs on every
+    run): the counts by outcome and the failures, each with its input (the reproducer)."""
     strategy, probe, _ = SURFACES[name]
     counts: Counter[str] = Counter()
-    failures: list[tuple[Any, Outcome]] = []
+    failures: list[str] = []
 
     @settings(
         max_examples=count,
@@ -572,38 +572,41 @@ def explore(name: str, count: int, seed: int = 0) -> tuple[Counter[str], list[tu
         outcome = guarded(probe, value)
         counts[outcome.kind] += 1
         if outcome.failed and len(failures) < 50:
-            failures.append((value, outcome))
+            failures.append(f"FAILURE {outcome.detail}\n    input: {value!r}"[:2000])
 
-    random.seed(seed)
     feed()
     return counts, failures
+
+
+def _explore_timed(name: str, count: int) -> tuple[str, Counter[str], list[str], float]:
+    start = time.monotonic()
+    counts, failures = explore(name, count)
+    return name, counts, failures, time.monotonic() - start
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tests.fuzz_harness", description=__doc__.split("\n\n")[0])
     parser.add_argument("--inputs", type=int, default=100_000, help="inputs in all (default 100000)")
     parser.add_argument("--surface", choices=sorted(SURFACES), action="append", help="only these surfaces")
+    parser.add_argument("--jobs", type=int, default=1, help="surfaces explored in parallel processes")
     args = parser.parse_args(argv)
     names = args.surface or list(SURFACES)
     share = sum(SURFACES[n][2] for n in names)
+    counts_of = {name: max(1, round(args.inputs * SURFACES[name][2] / share)) for name in names}
     total: Counter[str] = Counter()
-    failed = 0
     began = time.monotonic()
-    for name in names:
-        count = max(1, round(args.inputs * SURFACES[name][2] / share))
-        start = time.monotonic()
-        counts, failures = explore(name, count)
-        total.update(counts)
-        failed += counts["FAILURE"]
-        summary = ", ".join(f"{kind} {n:,}" for kind, n in sorted(counts.items()))
-        print(
-            f"{name:<14} {sum(counts.values()):>7,} inputs in {time.monotonic() - start:6.1f} s: {summary}", flush=True
-        )
-        for value, outcome in failures:
-            print(f"  FAILURE {outcome.detail}\n    input: {value!r}"[:2000], flush=True)
+    with concurrent.futures.ProcessPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+        jobs = [pool.submit(_explore_timed, name, counts_of[name]) for name in names]
+        for job in concurrent.futures.as_completed(jobs):
+            name, counts, failures, took = job.result()
+            total.update(counts)
+            summary = ", ".join(f"{kind} {n:,}" for kind, n in sorted(counts.items()))
+            print(f"{name:<14} {sum(counts.values()):>7,} inputs in {took:6.1f} s: {summary}", flush=True)
+            for failure in failures:
+                print(f"  {failure}", flush=True)
     summary = ", ".join(f"{kind} {n:,}" for kind, n in sorted(total.items()))
     print(f"{'all':<14} {sum(total.values()):>7,} inputs in {time.monotonic() - began:6.1f} s: {summary}")
-    return 1 if failed else 0
+    return 1 if total["FAILURE"] else 0
 
 
 if __name__ == "__main__":

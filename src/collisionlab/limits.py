@@ -123,7 +123,7 @@ MAX_SCENARIO_BYTES = 1_000_000
 def within(value: float, field: str, low: float, high: float, unit: str = "") -> float:
     """``value`` when ``low <= |value| <= high`` (``low = 0`` allows 0), else an error naming ``field``."""
     units = f" {unit}" if unit else ""
-    if not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):  # (an int is finite, however large)
         raise InvalidInputError(field, "must be a finite number", value)
     if abs(value) > high:
         raise InvalidInputError(field, f"must be at most {high:g}{units}, the largest collisionlab simulates", value)
