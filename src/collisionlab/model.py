@@ -6,7 +6,6 @@ A :class:`Scenario` is plain, validated data; :class:`~collisionlab.world.World`
 from __future__ import annotations
 
 import math
-import unicodedata
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
@@ -14,7 +13,7 @@ from .errors import InvalidInputError, UnsupportedPairError
 from .limits import check_scenario
 from .narrowphase import separation
 from .shapes import AABB, Circle, Line, Plane, Sphere
-from .validate import non_negative, positive, positive_or_inf, whole_number
+from .validate import non_negative, positive, positive_or_inf, printable, whole_number
 from .vector import Vector3D, as_vector
 
 __all__ = ["Body", "BodyShape", "Mode", "Obstacle", "ObstacleShape", "Scenario", "Settings"]
@@ -23,23 +22,6 @@ BodyShape = Circle | Sphere | AABB
 ObstacleShape = Line | Plane | AABB
 Mode = Literal["euler", "exact"]
 MODES: tuple[Mode, ...] = ("euler", "exact")
-
-
-def check_printable(text: str, field: str) -> str:
-    """``text`` when it holds no control or format character (an escape sequence, a newline, a
-    NUL, a bidi override): names and titles are printed, and must not forge output lines.
-
-    >>> check_printable("ball A", "name")
-    'ball A'
-    >>> check_printable("ball\\x1b[2J", "name")
-    Traceback (most recent call last):
-    ...
-    collisionlab.errors.InvalidInputError: name: must not hold a control character (U+001B) (got 'ball\\x1b[2J')
-    """
-    for char in text:
-        if unicodedata.category(char) in ("Cc", "Cf", "Cs", "Zl", "Zp"):
-            raise InvalidInputError(field, f"must not hold a control character (U+{ord(char):04X})", got=text)
-    return text
 
 
 @dataclass(frozen=True)
@@ -127,9 +109,9 @@ class Scenario:
         names = [b.name for b in self.bodies] + [o.name for o in self.obstacles]
         fields = [f"body[{i}].name" for i in range(len(self.bodies))]
         fields += [f"static[{i}].name" for i in range(len(self.obstacles))]
-        check_printable(self.title, "simulation.title")
+        printable(self.title, "simulation.title")
         for index, name in enumerate(names):
-            check_printable(name, fields[index])
+            printable(name, fields[index])
             if not name:
                 raise InvalidInputError("name", "must not be empty")
             if name in names[:index]:

@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import math
 import numbers
+import unicodedata
 
 from .errors import InvalidInputError
 
-__all__ = ["finite_number", "non_negative", "positive", "positive_or_inf", "whole_number"]
+__all__ = ["finite_number", "non_negative", "positive", "positive_or_inf", "printable", "whole_number"]
 
 
 def finite_number(value: object, field: str) -> float:
@@ -76,3 +77,20 @@ def whole_number(value: object, field: str, minimum: int = 1) -> int:
     if not math.isfinite(number) or number != int(number) or number < minimum:
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
     return int(number)
+
+
+def printable(text: str, field: str) -> str:
+    """``text`` when it holds no control or format character (an escape sequence, a newline, a
+    NUL, a bidi override): names and titles are printed, and must not forge output lines.
+
+    >>> printable("ball A", "name")
+    'ball A'
+    >>> printable("ball\\x1b[2J", "name")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: name: must not hold a control character (U+001B) (got 'ball\\x1b[2J')
+    """
+    for char in text:
+        if unicodedata.category(char) in ("Cc", "Cf", "Cs", "Zl", "Zp"):
+            raise InvalidInputError(field, f"must not hold a control character (U+{ord(char):04X})", got=text)
+    return text
