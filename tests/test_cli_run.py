@@ -596,3 +596,20 @@ def test_version() -> None:
 
 # Any command line ending in a known status without a traceback: tests/test_fuzz_command_line.py
 # (the same vocabulary and more, driven by tests/fuzz_harness.py).
+
+
+@pytest.mark.parametrize("word", ["a\nb", "a\x0bb", "x\x1b[2Jy", "\x85", "a\u2028b"])
+def test_a_control_character_typed_in_an_argument_is_escaped_in_the_error_line(tmp_path: Path, word: str) -> None:
+    # Found by the fuzzer: argparse echoed "unrecognized arguments: a<VT>b" raw, breaking its one
+    # line in two (and an escape sequence would drive the terminal). Files and --output paths too.
+    for argv in (
+        ["demo", "spheres", word],
+        ["run", str(tmp_path / word)],
+        ["demo", "spheres", "--output", word + "/o"],
+    ):
+        result = run_cli(argv)
+        assert result.status in (1, 2)
+        errors = [line for line in result.err.splitlines() if not line.startswith(("usage:", " "))]
+        assert len(errors) == 1, result.err
+        shown = result.err.replace("\n", "")  # (the line ends themselves)
+        assert not any(c in shown for c in word if not c.isprintable())

@@ -16,7 +16,7 @@ import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-from .errors import InvalidInputError
+from .errors import InvalidInputError, escape_controls
 
 __all__ = ["atomic_path", "check_target", "write_text_atomically"]
 
@@ -38,17 +38,22 @@ def check_target(path: str, option: str) -> Path:
     """
     if not path:
         raise InvalidInputError(option, "must be a file name, not empty")
+    shown = escape_controls(path)
     target = Path(os.path.realpath(path))  # a symlink is written through: its target counts
     folder = target.parent
     if target.is_dir():
-        raise InvalidInputError(option, f"cannot write {path}: it is a folder")
+        raise InvalidInputError(option, f"cannot write {shown}: it is a folder")
     if not folder.is_dir():
-        raise InvalidInputError(option, f"cannot write {path}: the folder {folder} does not exist")
+        raise InvalidInputError(
+            option, f"cannot write {shown}: the folder {escape_controls(str(folder))} does not exist"
+        )
     if target.exists() and not target.is_file():  # a FIFO or a device: written through
         if not os.access(target, os.W_OK):
-            raise InvalidInputError(option, f"cannot write {path}: permission denied")
+            raise InvalidInputError(option, f"cannot write {shown}: permission denied")
     elif not os.access(folder, os.W_OK | os.X_OK):
-        raise InvalidInputError(option, f"cannot write {path}: the folder {folder} is not writable")
+        raise InvalidInputError(
+            option, f"cannot write {shown}: the folder {escape_controls(str(folder))} is not writable"
+        )
     return target
 
 

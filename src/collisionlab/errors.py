@@ -6,18 +6,38 @@ names what was wrong, so that a command-line front end can print one line and no
 
 from __future__ import annotations
 
+import unicodedata
+
 __all__ = [
     "MESSAGE_VALUE_CHARS",
     "CollisionLabError",
     "InvalidInputError",
     "OutOfRangeError",
     "UnsupportedPairError",
+    "escape_controls",
     "shorten",
 ]
 
 #: Characters: the longest value (or field name) an error message repeats; longer ones are cut
 #: in the middle, so a 100 MB bad value gives a one-line message, not a 100 MB line.
 MESSAGE_VALUE_CHARS = 60
+
+
+def escape_controls(text: str, keep: str = "") -> str:
+    """``text`` with every control or format character (escapes, newlines, NUL, line separators;
+    all but those in ``keep``) written as ``\\xNN`` or ``\\uNNNN``, so a value echoed in a message
+    can neither break it into lines nor drive the terminal.
+
+    >>> escape_controls("a\\nb\\x1b[2J")
+    'a\\\\nb\\\\x1b[2J'
+    """
+    out = []
+    for char in text:
+        if char not in keep and unicodedata.category(char) in ("Cc", "Cf", "Cs", "Zl", "Zp"):
+            out.append(repr(char)[1:-1] if char.isascii() else f"\\u{ord(char):04x}")
+        else:
+            out.append(char)
+    return "".join(out)
 
 
 def shorten(text: str, limit: int = MESSAGE_VALUE_CHARS) -> str:
@@ -52,7 +72,7 @@ class InvalidInputError(CollisionLabError, ValueError):
         self.field = field
         self.problem = problem
         self.got = got
-        message = f"{shorten(field)}: {problem}"
+        message = f"{escape_controls(shorten(field))}: {problem}"
         if got is not None:
             message += f" (got {_value_text(got)})"
         super().__init__(message)
@@ -80,7 +100,7 @@ class OutOfRangeError(CollisionLabError, ArithmeticError):
 
     def within(self, source: str) -> OutOfRangeError:
         """The same error, naming the scenario's file (or demo) first."""
-        return OutOfRangeError(f"{source}: {self}")
+        return OutOfRangeError(f"{escape_controls(source)}: {self}")
 
 
 class UnsupportedPairError(CollisionLabError, TypeError):

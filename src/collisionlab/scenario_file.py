@@ -15,7 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .errors import CollisionLabError, InvalidInputError
+from .errors import CollisionLabError, InvalidInputError, escape_controls
 from .limits import MAX_SCENARIO_BYTES
 from .model import Body, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere
@@ -39,7 +39,7 @@ class ScenarioError(InvalidInputError):
     def __init__(self, source: str, field: str, problem: str, got: object = None) -> None:
         super().__init__(field, problem, got)
         self.source = source
-        self.args = (f"{source}: {self.args[0]}",)
+        self.args = (f"{escape_controls(source)}: {self.args[0]}",)
 
 
 def _check(source: str, call: Callable[[], T], field: str, names: Mapping[str, str] | None = None) -> T:
@@ -214,7 +214,7 @@ def load_scenario(path: str | Path) -> Scenario:
             raw = file.read(MAX_SCENARIO_BYTES + 1)  # never more: /dev/zero is endless
     except OSError as error:
         # Not bad data but a missing or unreadable file: an "other failure" (exit status 1).
-        raise CollisionLabError(f"{source}: cannot be read: {error.strerror or error}") from None
+        raise CollisionLabError(f"{escape_controls(source)}: cannot be read: {error.strerror or error}") from None
     if len(raw) > MAX_SCENARIO_BYTES:
         raise ScenarioError(source, "file", f"is larger than {MAX_SCENARIO_BYTES:,} bytes; a scenario file is small")
     try:

@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from .. import __version__
-from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..scenario_file import ScenarioError
 from . import gas_command
 from .interrupts import Stopped, stop_on_signals
@@ -38,7 +38,8 @@ class _Parser(argparse.ArgumentParser):
     streams: Streams
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        raise UsageError(f"{self.format_usage().rstrip()}\n{self.prog}: error: {message}")
+        # The message echoes what was typed: escaped, so a newline in an argument stays one line.
+        raise UsageError(f"{self.format_usage().rstrip()}\n{self.prog}: error: {escape_controls(message)}")
 
     def _print_message(self, message: str, file: object = None) -> None:
         if message:

@@ -10,7 +10,7 @@ from typing import Any, TypeVar
 from .. import limits
 from ..atomic import check_target, write_text_atomically
 from ..demos import LAB_DEMOS, demo_names, load_demo
-from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..model import Scenario
 from ..record import RunRecord
 from ..scenario_file import load_scenario
@@ -177,7 +177,8 @@ def execute(
         try:
             write_text_atomically(args.output, lambda: text)
         except OSError as error:
-            raise CollisionLabError(f"--output: cannot write {args.output}: {error.strerror or error}") from None
+            shown = escape_controls(args.output)
+            raise CollisionLabError(f"--output: cannot write {shown}: {error.strerror or error}") from None
         streams.err(f"wrote {args.output}")
     else:
         streams.stdout.write(text)
