@@ -539,8 +539,8 @@ SURFACES: dict[str, tuple[st.SearchStrategy[Any], Callable[[Any], Outcome], floa
     "scenario-data": (SCENARIO_DATA, probe_scenario_data, 0.25),
     "file-bytes": (file_bytes(), probe_file_bytes, 0.15),
     "command-line": (COMMAND_LINES, probe_command_line, 0.10),
-    "menu-answers": (MENU_SESSIONS, probe_menu, 0.10),
-    "public-api": (api_calls(), probe_api, 0.40),
+    "menu-answers": (MENU_SESSIONS, probe_menu, 0.05),  # each session runs 150-200 steps: the dearest
+    "public-api": (api_calls(), probe_api, 0.45),
 }
 
 
