@@ -143,8 +143,6 @@ def test_exact_mode_warns_when_gravity_makes_bodies_too_fast_for_time_of_impact(
 
 def test_json_output_is_valid_json_at_the_edge_of_the_range() -> None:
     # The largest speed, mass and coordinate allowed: every number in the JSON is finite.
-    result = run_cli(["run", "-", "--format", "json"])  # no such file: 1, not a crash
-    assert result.status == 1
     ball = Body("b", Sphere((1e9 - 10, 0, 0), 1e9), velocity=(-1e9, 1e9, -1e9), mass=1e30)
     record = simulate(Scenario(Settings(dt=1e-3, steps=5, gravity=(1e9, 1e9, 1e9)), (ball,)))
     from collisionlab.cli.render import render_json
