@@ -439,6 +439,9 @@ def api_calls(draw: st.DrawFn) -> tuple[str, Callable[[], Any]]:
     if which == "vector":
         xyz = draw(st.lists(NUMBERS, min_size=2, max_size=3))  # Vector3D(x, y[, z]): any numbers
         b, c = draw(vec), draw(vec)
+        # + and - take vectors (2 or 3 numbers); a float operand is Python's TypeError by design
+        # (the operator returns NotImplemented), as Vector3D * Vector3D is: not a probe of ours.
+        p, q = draw(st.one_of(PLAUSIBLE_VECTOR, EXTREME_VECTOR)), draw(st.one_of(PLAUSIBLE_VECTOR, EXTREME_VECTOR))
         op = draw(st.sampled_from(["normalized", "length", "cross", "dot", "parallel", "perpendicular", "line", "plane",
                                    "add", "scale"]))  # fmt: skip
         scalar = draw(FLOATS)
@@ -451,7 +454,7 @@ def api_calls(draw: st.DrawFn) -> tuple[str, Callable[[], Any]]:
             "perpendicular": lambda: Vector3D(*xyz).perpendicular_projection(b),
             "line": lambda: Vector3D.closest_point_on_line(xyz, b, c),
             "plane": lambda: Vector3D.closest_point_on_plane(xyz, b, c),
-            "add": lambda: Vector3D(*xyz) + b - c,
+            "add": lambda: Vector3D(*xyz) + p - q,
             "scale": lambda: Vector3D(*xyz) * scalar / (scalar or 1.0),
         }
         return f"Vector3D {op}({xyz!r}, {b!r}, {c!r}, {scalar!r})", calls[op]

@@ -283,3 +283,22 @@ def test_a_sphere_is_written_with_its_radius() -> None:
 # --- fuzz: whatever a file holds, the answer is a scenario or one ScenarioError ------------------
 # Moved to tests/test_fuzz_scenario_data.py (the same tables of any keys and values, plus plausible
 # scenarios over the whole float range, run and rendered), driven by tests/fuzz_harness.py.
+
+
+@pytest.mark.parametrize(
+    ("extra", "field"),
+    [("velocity = [1, 0, 0.5]\n", "body[0].velocity"), ("", "simulation.gravity")],
+)
+def test_a_2d_box_cannot_be_given_motion_along_z(tmp_path: Path, extra: str, field: str) -> None:
+    # Found by the fuzzer: a 2D box moving along z became a flat 3D box after one step, and its
+    # pair with a 2D box or a line ended the run in UnsupportedPairError (exit 1, "unexpected").
+    gravity = "" if extra else "[simulation]\ngravity = [0, -9.81, 1]\n"
+    text = (
+        gravity + '[[body]]\nname = "b"\nshape = "aabb"\nposition = [0, 0]\nsize = [1, 1]\n' + extra
+        + '[[static]]\nname = "l"\nshape = "line"\npoint = [0, -2]\ndirection = [1, 0]\n'
+    )  # fmt: skip
+    path = tmp_path / "flat.toml"
+    path.write_text(text)
+    result = run_cli(["run", str(path)])
+    assert result.status == 65, result.err
+    assert f"{path}: {field}: " in result.err and "x-y plane" in result.err

@@ -24,6 +24,11 @@ Mode = Literal["euler", "exact"]
 MODES: tuple[Mode, ...] = ("euler", "exact")
 
 
+def _planar(shape: object) -> bool:
+    """A circle or a 2D box: it lives in the x-y plane and must not move out of it."""
+    return isinstance(shape, Circle) or (isinstance(shape, AABB) and shape.dim == 2)
+
+
 @dataclass(frozen=True)
 class Body:
     """A moving body: a shape placed at its starting position, a velocity and a mass.
@@ -44,8 +49,8 @@ class Body:
         object.__setattr__(self, "mass", positive(self.mass, "mass"))
         if self.restitution is not None:
             object.__setattr__(self, "restitution", non_negative(self.restitution, "restitution"))
-        if isinstance(self.shape, Circle) and self.velocity.z != 0.0:
-            raise InvalidInputError("velocity", "a circle moves in the x-y plane: z must be 0")
+        if _planar(self.shape) and self.velocity.z != 0.0:  # else it would leave its plane
+            raise InvalidInputError("velocity", "a circle or a 2D box moves in the x-y plane: z must be 0")
 
     @property
     def position(self) -> Vector3D:
@@ -116,8 +121,10 @@ class Scenario:
                 raise InvalidInputError("name", "must not be empty")
             if name in names[:index]:
                 raise InvalidInputError("name", "must be unique among bodies and obstacles", got=name)
-        if self.settings.gravity.z != 0.0 and any(isinstance(b.shape, Circle) for b in self.bodies):
-            raise InvalidInputError("gravity", "a scenario with circles lives in the x-y plane: z must be 0")
+        if self.settings.gravity.z != 0.0 and any(_planar(b.shape) for b in self.bodies):
+            raise InvalidInputError(
+                "gravity", "a scenario with circles or 2D boxes lives in the x-y plane: z must be 0"
+            )
         for a, b in self.pairs():
             try:
                 separation(a.shape, b.shape)
