@@ -302,3 +302,17 @@ def test_a_2d_box_cannot_be_given_motion_along_z(tmp_path: Path, extra: str, fie
     result = run_cli(["run", str(path)])
     assert result.status == 65, result.err
     assert f"{path}: {field}: " in result.err and "x-y plane" in result.err
+
+
+def test_a_plane_tilted_out_of_the_x_y_plane_cannot_meet_a_2d_box(tmp_path: Path) -> None:
+    # Found by the fuzzer: a plane whose normal has z != 0 pushed a 2D box along z; the box became
+    # a flat 3D box and its other pairs ended the run in UnsupportedPairError.
+    text = (
+        '[[body]]\nname = "b"\nshape = "aabb"\nposition = [0, 0]\nsize = [1, 1]\nvelocity = [0, -1]\n'
+        '[[static]]\nname = "p"\nshape = "plane"\npoint = [0, -1, 0]\nnormal = [0, 1, 0.5]\n'
+    )
+    path = tmp_path / "tilted.toml"
+    path.write_text(text)
+    result = run_cli(["run", str(path)])
+    assert result.status == 65, result.err
+    assert f"{path}: static[0].normal: " in result.err and "x-y plane" in result.err

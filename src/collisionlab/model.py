@@ -121,6 +121,13 @@ class Scenario:
                 raise InvalidInputError("name", "must not be empty")
             if name in names[:index]:
                 raise InvalidInputError("name", "must be unique among bodies and obstacles", got=name)
+        if any(isinstance(b.shape, AABB) and b.shape.dim == 2 for b in self.bodies):
+            for index, obstacle in enumerate(self.obstacles):  # it would push a 2D box along z
+                if isinstance(obstacle.shape, Plane) and obstacle.shape.normal.z != 0.0:
+                    raise InvalidInputError(
+                        f"static[{index}].normal",
+                        "a plane meeting a 2D box must have its normal in the x-y plane (z = 0)",
+                    )
         if self.settings.gravity.z != 0.0 and any(_planar(b.shape) for b in self.bodies):
             raise InvalidInputError(
                 "gravity", "a scenario with circles or 2D boxes lives in the x-y plane: z must be 0"
