@@ -316,3 +316,16 @@ def test_a_plane_tilted_out_of_the_x_y_plane_cannot_meet_a_2d_box(tmp_path: Path
     result = run_cli(["run", str(path)])
     assert result.status == 65, result.err
     assert f"{path}: static[0].normal: " in result.err and "x-y plane" in result.err
+
+
+def test_a_moving_2d_box_cannot_meet_a_sphere(tmp_path: Path) -> None:
+    # Found by the fuzzer: a sphere moving along z hit a moving 2D box and pushed it along z.
+    text = (
+        '[[body]]\nname = "b"\nshape = "aabb"\nposition = [0, 0]\nsize = [1, 1]\n'
+        '[[body]]\nname = "s"\nshape = "sphere"\nposition = [0, 0, 3]\nradius = 1\nvelocity = [0, 0, -1]\n'
+    )
+    path = tmp_path / "mixed.toml"
+    path.write_text(text)
+    result = run_cli(["run", str(path)])
+    assert result.status == 65, result.err
+    assert f"{path}: body[0].shape: " in result.err and "x-y plane" in result.err

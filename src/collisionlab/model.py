@@ -121,7 +121,14 @@ class Scenario:
                 raise InvalidInputError("name", "must not be empty")
             if name in names[:index]:
                 raise InvalidInputError("name", "must be unique among bodies and obstacles", got=name)
-        if any(isinstance(b.shape, AABB) and b.shape.dim == 2 for b in self.bodies):
+        flat = [i for i, b in enumerate(self.bodies) if isinstance(b.shape, AABB) and b.shape.dim == 2]
+        if flat and any(
+            isinstance(b.shape, Sphere) or (isinstance(b.shape, AABB) and b.shape.dim == 3) for b in self.bodies
+        ):
+            raise InvalidInputError(  # a sphere or a 3D box would push it along z, out of its plane
+                f"body[{flat[0]}].shape", "a moving 2D box lives in the x-y plane: it cannot meet a sphere or a 3D box"
+            )
+        if flat:
             for index, obstacle in enumerate(self.obstacles):  # it would push a 2D box along z
                 if isinstance(obstacle.shape, Plane) and obstacle.shape.normal.z != 0.0:
                     raise InvalidInputError(
