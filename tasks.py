@@ -8,6 +8,7 @@
     python3 tasks.py bench-edmd     # the event-driven engine against the reference C code
     python3 tasks.py edmd-long      # 10^7 elastic collisions; 1,000 balls coming to rest
     python3 tasks.py bench-sweep    # sweeps on Dask: 2 workers against 1, overhead per point
+    python3 tasks.py fuzz           # every input surface at 100,000 inputs, counts by outcome
 
 Each step is printed before it runs; the first failure stops with its exit status.
 """
@@ -17,6 +18,7 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
@@ -24,6 +26,11 @@ VENV = ROOT / ".venv"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 PYTHON = BIN / ("python.exe" if os.name == "nt" else "python")
 STAMP = VENV / ".installed"
+#: apt-get's exit status when another apt or dpkg process holds the lock.
+APT_LOCKED = 100
+#: How often and how long to wait for that lock before giving up (10 minutes in all).
+LOCK_ATTEMPTS = 60
+LOCK_WAIT_SECONDS = 10.0
 
 
 def sh(*command: str | Path) -> None:
@@ -32,6 +39,20 @@ def sh(*command: str | Path) -> None:
     result = subprocess.run(words, cwd=ROOT, check=False)
     if result.returncode != 0:
         sys.exit(result.returncode)
+
+
+def sh_waiting_for_apt(*command: str | Path) -> None:
+    """``sh(command)``, run again while it fails because another apt process holds the dpkg
+    lock (status 100), up to ``LOCK_ATTEMPTS`` times ``LOCK_WAIT_SECONDS`` apart."""
+    for attempt in range(1, LOCK_ATTEMPTS + 1):
+        try:
+            sh(*command)
+            return
+        except SystemExit as stop:
+            if stop.code != APT_LOCKED or attempt == LOCK_ATTEMPTS:
+                raise
+        print(f"(apt is busy: waiting {LOCK_WAIT_SECONDS:g} s for its lock, then again)", flush=True)
+        time.sleep(LOCK_WAIT_SECONDS)
 
 
 def setup(*extras: str) -> None:
@@ -61,7 +82,7 @@ def test() -> None:
     sh(BIN / "ruff", "format", "--check", "src", "tests", "bench", "tasks.py")
     sh(BIN / "mypy")
     sh(BIN / "mkdocs", "build", "--strict", "--quiet")  # the API reference; a warning fails it
-    sh("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
+    sh_waiting_for_apt("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
     sh(PYTHON, "-m", "pytest")
 
 
@@ -92,6 +113,12 @@ def bench_sweep() -> None:
     sh(PYTHON, "bench/bench_sweep.py", *sys.argv[2:])
 
 
+def fuzz() -> None:
+    """The fuzz suite's harness (tests/fuzz_harness.py) at 100,000 inputs or more."""
+    setup("dev")
+    sh(PYTHON, "-m", "tests.fuzz_harness", *(sys.argv[2:] or ["--inputs", "100000", "--jobs", "3"]))
+
+
 TASKS = {
     "run": run,
     "test": test,
@@ -100,6 +127,7 @@ TASKS = {
     "bench-edmd": bench_edmd,
     "edmd-long": edmd_long,
     "bench-sweep": bench_sweep,
+    "fuzz": fuzz,
 }
 
 if __name__ == "__main__":

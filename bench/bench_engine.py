@@ -103,7 +103,8 @@ def incline(runs: int, plan: dict[str, tuple[int, int, int]], folder: Path) -> N
     for mode, (balls, boxes, count) in plan.items():
         path = folder / f"incline-{mode}.toml"
         path.write_text(INCLINE.format(steps=count, mode=mode, balls=balls, boxes=boxes))
-        command = [*CLI, "run", str(path), "--quiet", "--every", str(count), "--format", "json", "--output", str(folder / "out.json")]
+        command = [*CLI, "run", str(path), "--quiet", "--every", str(count), "--format", "json"]
+        command += ["--output", str(folder / "out.json")]
         timed(command)  # warm-up: the compile cache
         bodies = balls + boxes
         rates = [bodies * count / timed(command)[0] for _ in range(runs)]

@@ -4,13 +4,21 @@ from __future__ import annotations
 
 import io
 import json
+import os
+import signal
+import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from collisionlab.cli import main
 from collisionlab.cli import progress as progress_module
+from collisionlab.cli.gas_command import CHUNK_SECONDS, step_in_chunks
+from collisionlab.cli.interrupts import Pending
 from collisionlab.cli.streams import Streams
+from collisionlab.particles.world import StepReport
+from tests.cli_helpers import finish, on_a_terminal, read_until
 from tests.schema_check import check
 
 
@@ -97,3 +105,96 @@ def test_restitution_above_one_is_allowed_with_a_warning_and_adds_energy() -> No
     assert status == 0
     assert "adds kinetic energy" in err
     assert json.loads(out)["energy_drift"] > 0
+
+
+# --- issue 11: interrupts, and numbers out of range ----------------------------------------------
+@pytest.mark.parametrize(
+    ("argv", "flag", "words"),
+    [
+        (["--gravity", "1e300"], "--gravity", "at most"),
+        (["--gravity", "nan"], "--gravity", "finite"),
+        (["--restitution", "1e308"], "--restitution", "at most"),
+        (["--steps", "100000000000000000000000"], "--steps", "at most"),
+    ],
+)
+def test_magnitudes_out_of_range_are_refused_naming_the_flag(argv: list[str], flag: str, words: str) -> None:
+    # gas --gravity 1e300 used to exit 0 with Infinity in its JSON; 1e23 steps ended in OverflowError.
+    status, out, err = run([*argv, "--n", "100", "--format", "json"])
+    assert status == 2 and out == ""
+    assert err.startswith(f"collisionlab gas: {flag}: ") and words in err
+
+
+def test_energy_that_grows_out_of_range_stops_the_run_with_status_65() -> None:
+    # e = 10 multiplies a pair's approach speed by 10 at each collision: within a few thousand
+    # steps speeds pass 1e100 (and would reach inf, then NaN, and the compiled kernel would hang).
+    status, out, err = run(["--n", "300", "--steps", "3000", "--restitution", "10", "--format", "json"])
+    assert status == 65 and out == ""
+    assert "too large to simulate" in err.splitlines()[-1]
+
+
+class _FakeWorld:
+    """Steps take 0.01 s each on a fake clock; records the chunk sizes asked for."""
+
+    restitution = 1.0
+
+    def __init__(self, clock: list[float]) -> None:
+        self.clock = clock
+        self.chunks: list[int] = []
+        self.velocities = np.zeros((2, 2))
+
+    def step(self, dt: float, count: int) -> StepReport:
+        self.chunks.append(count)
+        self.clock[0] += 0.01 * count
+        return StepReport(count, 1, 0)
+
+
+def test_steps_go_in_chunks_of_a_fraction_of_a_second() -> None:
+    clock = [0.0]
+    world = _FakeWorld(clock)
+    report = step_in_chunks(world, 0.1, 1000, Pending(), clock=lambda: clock[0])  # type: ignore[arg-type]
+    assert report == StepReport(1000, sum(1 for _ in world.chunks), 0)
+    assert sum(world.chunks) == 1000
+    assert max(world.chunks) * 0.01 <= CHUNK_SECONDS + 1e-12  # each chunk lasts at most 0.1 s
+    assert world.chunks[:4] == [1, 2, 4, 8]  # from one step, doubling up to the target
+
+
+def test_an_interrupt_noted_during_a_chunk_stops_after_it() -> None:
+    clock = [0.0]
+    world = _FakeWorld(clock)
+    pending = Pending()
+    pending.note(signal.SIGINT, None)
+    with pytest.raises(KeyboardInterrupt):
+        step_in_chunks(world, 0.1, 10**6, pending, clock=lambda: clock[0])  # type: ignore[arg-type]
+    assert world.chunks == [1]
+
+
+@pytest.mark.parametrize(("backend", "quiet"), [("numba", True), ("numpy", False)])
+def test_ctrl_c_during_gas_exits_130_in_every_mode(tmp_path: Path, backend: str, quiet: bool) -> None:
+    # A run of ~2e10 body-steps (hours). Ctrl-C used to end in "SystemError: CPUDispatcher(...)
+    # returned a result with an exception set" 14 s later, or be ignored to the end with --quiet.
+    # The progress line (stdin a terminal, not --quiet) or, with --quiet, the process's CPU time
+    # shows the stepping under way; the helpers bound every wait so a hang fails, not blocks.
+    argv = ["gas", "--n", "20000", "--steps", "1000000", "--backend", backend, *(["--quiet"] if quiet else [])]
+    with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
+        assert process.stderr is not None
+        if quiet:
+            _wait_for_cpu_seconds(process.pid, 4.0)
+        else:
+            read_until(process.stderr.fileno(), b"gas steps [", timeout=60)
+        process.send_signal(signal.SIGINT)
+        status, err = finish(process, timeout=20)
+    assert status == 130, err
+    assert err.decode().rstrip().endswith("collisionlab: interrupted")
+    assert b"Error" not in err
+
+
+def _wait_for_cpu_seconds(pid: int, seconds: float, timeout: float = 60.0) -> None:
+    """Until the process has used ``seconds`` of CPU (imports and kernels loaded: stepping)."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        if (int(fields[11]) + int(fields[12])) / ticks >= seconds:
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"the process did not reach {seconds} s of CPU within {timeout} s")

@@ -430,3 +430,55 @@ def test_a_plot_file_that_cannot_be_written_is_asked_again(tmp_path: Path) -> No
     assert result.out.count("try again") >= 2
     assert good.exists() and good.stat().st_size > 0
     assert not (tmp_path / "p.txt").exists()
+
+
+# --- issue 11 ------------------------------------------------------------------------------------
+LARGEST, SMALLEST = "the largest collisionlab simulates", "the smallest collisionlab simulates"
+
+
+@pytest.mark.parametrize(
+    ("case", "index", "bad", "line"),
+    [
+        (4, 0, "a 0 0", "  ! position: 'a' is not a number; try again"),
+        (4, 2, "1 x 0", "  ! velocity: 'x' is not a number; try again"),
+        (4, 3, "0 0", "  ! point 1: expected 3 numbers like 'x y z', got 2; try again"),
+        (3, 4, "0 zero", "  ! point: 'zero' is not a number; try again"),
+        (1, 0, "1 1 nan", "  ! position: must be a finite number (got nan); try again"),
+        (2, 2, "1e200 0 0", f"  ! velocity: must be at most 1e+09 m/s, {LARGEST} (got 1e+200); try again"),
+        (2, 1, "1e-300", f"  ! radius: must be at least 1e-06 m, {SMALLEST} (got 1e-300); try again"),
+    ],
+)  # fmt: skip
+def test_a_bad_vector_answer_names_its_field(case: int, index: int, bad: str, line: str) -> None:
+    # Vector errors used to name nothing: "! 'a' is not a number".
+    answers = [str(case), *[""] * index, bad, *[""] * (QUESTION_COUNTS[case] - index), *NO_SAVE]
+    result = run_cli(["menu"], typed(*answers))
+    assert result.status == 0, result.err
+    where = next(i for i, text in enumerate(result.lines) if text.endswith(f"]: {bad}"))
+    assert result.lines[where + 1] == line
+
+
+def test_the_default_third_point_is_never_collinear_with_the_first_two() -> None:
+    # Points (1, 0, 0) and (2, 0, 0): the fixed default (1, 0, 0) for the third point was the
+    # first point again, so Enter gave "collinear" forever. The default offered now spans a plane.
+    answers = ["4", "", "", "", "1 0 0", "2 0 0", "", *[""] * 4, *NO_SAVE]
+    result = run_cli(["menu"], typed(*answers))
+    assert result.status == 0, result.err
+    third = next(text for text in result.lines if text.startswith("third point on the plane"))
+    offered = third.split("[", 1)[1].split("]", 1)[0]
+    assert offered != "1 0 0"
+    assert not any(text.startswith("  ! ") for text in result.lines)
+    assert any(text.startswith("summary: ") for text in result.lines)
+
+
+def test_a_box_position_is_said_to_be_its_centre() -> None:
+    for case in (1, 6):
+        texts = [q.text for q in CASES[case - 1].questions if q.key.endswith(".position")]
+        assert texts and all("centre" in text for text in texts)
+
+
+def test_steps_beyond_what_fits_are_asked_again() -> None:
+    # Two bodies: at most 1,000,000 steps (2,000,000 body-steps of frames kept in memory).
+    answers = ["2", *[""] * 10, "1500000", "", "", *NO_SAVE]
+    result = run_cli(["menu"], typed(*answers))
+    assert result.status == 0, result.err
+    assert "  ! steps: must be at most 1e+06" in result.out

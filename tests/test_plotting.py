@@ -3,26 +3,29 @@ HTML's embedded data; bad paths; atomic writes; no second simulation; long runs 
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import re
 import time
+import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 from PIL import Image
 
-from collisionlab import plotting
+from collisionlab import Plane, Sphere, Vector3D, plotting
 from collisionlab.demos import LAB_DEMOS, load_demo
-from collisionlab.errors import InvalidInputError
-from collisionlab.model import Scenario
+from collisionlab.errors import InvalidInputError, OutOfRangeError
+from collisionlab.model import Body, Obstacle, Scenario, Settings
 from collisionlab.plotting import animation as animation_module
 from collisionlab.plotting import html as html_module
 from collisionlab.plotting import save_animation, save_html, save_plot
 from collisionlab.plotting._data import RunArrays, thin_indices
 from collisionlab.plotting.static import MAX_POINTS, draw_figure
 from collisionlab.record import RunRecord
-from collisionlab.world import World
+from collisionlab.world import World, simulate
 from tests.schema_check import check
 
 SMALL = (480, 360)
@@ -297,3 +300,42 @@ def test_labels_skip_crowded_collisions() -> None:
     points = np.array([[0.0, 0, 0], [0.5, 0, 0], [3.0, 0, 0]])
     assert uncrowded(points, 1.0) == [True, False, True]
     assert uncrowded(points, 1.0, limit=1) == [True, False, False]
+
+
+# --- issue 11: extreme coordinates give a clear line, never a leaked warning ---------------------
+def _far_run() -> tuple[Any, Scenario]:
+    # From x = 1e9 m (the largest coordinate a scenario gives) at 1e9 m/s for 900 s: 9.01e11 m,
+    # near the 1e12 m a run may reach.
+    ball = Body("ball", Sphere((1e9, 0, 0), 1.0), velocity=(1e9, 1e8, 0))
+    scenario = Scenario(Settings(dt=1.0, steps=900), (ball,), (Obstacle("floor", Plane((0, -1, 0), (0, 1, 0))),))
+    return simulate(scenario), scenario
+
+
+@pytest.mark.parametrize("name", ["far.png", "far.gif", "far.html"])
+def test_pictures_of_the_farthest_run_draw_without_a_warning(tmp_path: Path, name: str) -> None:
+    record, scenario = _far_run()
+    save = {".png": plotting.save_plot, ".gif": plotting.save_animation, ".html": plotting.save_html}
+    target = tmp_path / name
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a numpy or matplotlib warning fails the test
+        save[target.suffix](record, scenario, str(target))
+    assert target.stat().st_size > 0
+    if name.endswith(".html"):  # the run's data in the page is strict JSON: no Infinity, no NaN
+        page = target.read_text()
+        embedded = page.split('id="collisionlab-run">', 1)[1].split("</script>", 1)[0]
+        json.loads(embedded, parse_constant=lambda word: pytest.fail(f"{word} in the page's data"))
+
+
+@pytest.mark.parametrize("name", ["far.png", "far.gif", "far.html"])
+def test_pictures_of_coordinates_beyond_the_range_are_refused_in_one_line(tmp_path: Path, name: str) -> None:
+    # x = 5e307 (a record made by hand: no run reaches it) used to leak numpy warnings and end
+    # in "ValueError: arange"; the page wrote inf above 3.4e38.
+    record, scenario = _far_run()
+    far = dataclasses.replace(record.frames[-1].bodies[0], position=Vector3D(5e307, 0, 0))
+    record.frames[-1] = dataclasses.replace(record.frames[-1], bodies=(far,))
+    save = {".png": plotting.save_plot, ".gif": plotting.save_animation, ".html": plotting.save_html}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(OutOfRangeError, match="beyond the 1e\\+12 m a picture draws"):
+            save[Path(name).suffix](record, scenario, str(tmp_path / name))
+    assert list(tmp_path.iterdir()) == []

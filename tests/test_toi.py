@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from collisionlab import AABB, Circle, InvalidInputError, Line, Plane, Sphere, UnsupportedPairError, Vector3D
+from collisionlab.errors import OutOfRangeError
 from collisionlab.narrowphase import distance, separation
 from collisionlab.shapes import Shape
 from collisionlab.toi import (
@@ -557,3 +558,28 @@ def test_agrees_with_brute_force(kind: str, accelerated: bool) -> None:
             sep = separation(a, moved(b, offset_at(v, g, impact.time + 1e-9)))
         assert close(impact.normal, sep.normal, 1e-6), (impact.normal, sep.normal)
     assert hits >= 5  # the cases are aimed: most of them hit
+
+
+# --- issue 11: numbers too large to solve end in the library's error, never a raw one -------------
+HUGE_MOTIONS = [
+    # (a, b, velocity_a, velocity_b, max_time, acceleration_a, acceleration_b)
+    (Sphere((0, 5, 0), 1), Sphere((0, 0, 0), 1), (0, 0, 0), (0, 0, 0), 1, (0, -1e300, 0), (0, 0, 0)),
+    (Sphere((0, 5, 0), 1), Sphere((0, 0, 0), 1), (0, -1e300, 0), (0, 1e300, 0), 1, (0, 0, 0), (0, 0, 0)),
+    (Sphere((0, 5, 0), 1), AABB((0, 0, 0), (1, 1, 1)), (0, 0, 0), (0, 0, 0), 1e300, (0, -1e300, 0), (0, 0, 0)),
+    (Circle((0, 5), 1), Circle((0, 0), 1), (1e300, -1e300), (-1e300, 1e300), 1e300, (0, 0), (0, 0)),
+    (Sphere((1e300, 5, 0), 1), Sphere((-1e300, 0, 0), 1), (-1e300, 0, 0), (1e300, 0, 0), 1, (0, 0, 0), (0, 0, 0)),
+]
+
+
+@pytest.mark.parametrize("motion", HUGE_MOTIONS, ids=range(len(HUGE_MOTIONS)))
+def test_numbers_too_large_to_solve_raise_out_of_range_not_a_raw_error_or_a_silent_miss(motion: tuple) -> None:
+    # Each pair meets within max_time, but a squared distance overflows: the answer is the
+    # library's OutOfRangeError (never ValueError/OverflowError from math.fsum, never None).
+    with pytest.raises(OutOfRangeError, match="too large"):
+        time_of_impact(*motion)
+
+
+def test_a_huge_acceleration_a_plane_can_take_still_gives_the_exact_time() -> None:
+    # A plane's distance is linear in the offset (no square): 4 = 1e300 t^2 / 2, t = sqrt(8e-300).
+    impact = time_of_impact(Sphere((0, 5, 0), 1), Plane((0, 0, 0), (0, 1, 0)), (0, 0, 0), (0, 0, 0), 1, (0, -1e300, 0))
+    assert impact is not None and impact.time == pytest.approx(math.sqrt(8e-300), rel=1e-12)

@@ -78,6 +78,8 @@ INVALID = [
     _row("circle-radius-inf", lambda: Circle((0, 0), INF), "radius"),
     _row("sphere-center-nan", lambda: Sphere((0, 0, NAN), 1), "center[2]"),
     _row("sphere-radius-inf", lambda: Sphere((0, 0, 0), INF), "radius"),
+    _row("sphere-radius-400-digits", lambda: Sphere((1, 2, 3), 10**400), "radius"),  # was OverflowError
+    _row("vector-400-digits", lambda: Vector3D(10**400, 0), "x"),
     _row("aabb-min-nan", lambda: AABB((0, NAN), (1, 1)), "min_corner[1]"),
     _row("aabb-max-inf", lambda: AABB((0, 0, 0), (INF, 1, 1)), "max_corner[0]"),
     _row("aabb-min-neginf", lambda: AABB((-INF, 0, 0), (1, 1, 1)), "min_corner[0]"),

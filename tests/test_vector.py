@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from collisionlab import InvalidInputError, Vector3D
+from collisionlab import InvalidInputError, Line, Plane, Vector3D
+from collisionlab.errors import OutOfRangeError
 from collisionlab.vector import as_vector
 from tests.strategies import directions, vectors
 
@@ -307,3 +308,39 @@ def test_isclose_is_relative_to_the_longer_vector() -> None:
 def test_isclose_is_symmetric_and_reflexive(u: Vector3D, v: Vector3D) -> None:
     assert u.isclose(u)
     assert u.isclose(v) == v.isclose(u)
+
+
+# --- issue 11: unit length over the whole float range -------------------------------------------
+def test_a_huge_normal_normalises_to_a_unit_vector() -> None:
+    # |(0, 1.7e308, 1.7e308)| overflows to inf; scaled first, the unit normal is (0, 1, 1)/sqrt 2.
+    n = Plane((0, 0, 0), (0, 1.7e308, 1.7e308)).unit_normal
+    assert (n.x, n.y, n.z) == (0.0, pytest.approx(math.sqrt(0.5)), pytest.approx(math.sqrt(0.5)))
+
+
+def test_a_subnormal_direction_normalises_to_a_unit_vector() -> None:
+    # 5e-324 / hypot(5e-324, 5e-324) is 1, not 1/sqrt 2: the length rounds to 5e-324 too.
+    d = Line((0, 0), (5e-324, 5e-324)).unit_direction
+    assert d.length() == pytest.approx(1.0)
+    assert d.x == pytest.approx(math.sqrt(0.5))
+
+
+_ANY_FINITE = st.floats(allow_nan=False, allow_infinity=False)
+
+
+@given(st.builds(Vector3D, _ANY_FINITE, _ANY_FINITE, _ANY_FINITE).filter(lambda v: v != Vector3D(0, 0, 0)))
+def test_normalized_has_unit_length_over_the_whole_float_range(v: Vector3D) -> None:
+    # Any non-zero finite vector, subnormal to 1.8e308: unit length to a few ulp, same direction.
+    u = v.normalized()
+    assert abs(u.length() - 1.0) <= 4e-16
+    for component, unit in zip(v, u, strict=True):
+        assert unit == 0.0 or math.copysign(1.0, unit) == math.copysign(1.0, component)
+        assert (component == 0.0) == (unit == 0.0) or abs(unit) < 1e-300
+
+
+def test_a_dot_product_or_length_that_overflows_is_the_librarys_error_not_inf() -> None:
+    # (-1, 1e308) . (0, 3) = 3e308 > 1.8e308: it was returned as inf.
+    with pytest.raises(OutOfRangeError):
+        Vector3D(-1.0, 1e308).dot((0.01, 3.0, 2.5))
+    with pytest.raises(OutOfRangeError):
+        Vector3D(1.7e308, 1.7e308).length()
+    assert Vector3D(1e308, 0).length() == 1e308

@@ -1,15 +1,24 @@
 """Write a file atomically: a temporary file in the same folder, renamed over the target only
-when complete, so a failed or interrupted run never leaves a half-written file."""
+when complete, so a failed or interrupted run never leaves a half-written file.
+
+What is replaced is always a regular file, keeping its mode. A symlink is followed (its target
+is replaced, the link stays); a special file (a FIFO, a device such as ``/dev/null``) cannot be
+replaced and is written through instead, once the whole text is known. Errors name the path the
+user gave, never the temporary file.
+"""
 
 from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "write_text_atomically"]
+from .errors import InvalidInputError, escape_controls
+
+__all__ = ["atomic_path", "check_target", "write_text_atomically"]
 
 
 def _umask() -> int:
@@ -18,20 +27,55 @@ def _umask() -> int:
     return mask
 
 
+def check_target(path: str, option: str) -> Path:
+    """Before a run: ``path`` can be written (its folder exists, it is not a folder), else
+    :class:`InvalidInputError` naming ``option`` and ``path``.
+
+    >>> check_target("", "--output")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: --output: must be a file name, not empty
+    """
+    if not path:
+        raise InvalidInputError(option, "must be a file name, not empty")
+    shown = escape_controls(path)
+    target = Path(os.path.realpath(path))  # a symlink is written through: its target counts
+    folder = target.parent
+    if target.is_dir():
+        raise InvalidInputError(option, f"cannot write {shown}: it is a folder")
+    if not folder.is_dir():
+        raise InvalidInputError(
+            option, f"cannot write {shown}: the folder {escape_controls(str(folder))} does not exist"
+        )
+    if target.exists() and not target.is_file():  # a FIFO or a device: written through
+        if not os.access(target, os.W_OK):
+            raise InvalidInputError(option, f"cannot write {shown}: permission denied")
+    elif not os.access(folder, os.W_OK | os.X_OK):
+        raise InvalidInputError(
+            option, f"cannot write {shown}: the folder {escape_controls(str(folder))} is not writable"
+        )
+    return target
+
+
 @contextlib.contextmanager
 def atomic_path(target: str | Path) -> Iterator[Path]:
     """Yield a temporary path beside ``target``; on success it replaces ``target``, on any
-    error (or Ctrl-C) it is removed and ``target`` is left as it was."""
-    target = Path(target)
-    folder = target.parent if str(target.parent) else Path(".")
+    error (or Ctrl-C, or SIGTERM handled as it) it is removed and ``target`` is left as it was.
+    A symlink ``target`` is followed; an existing file's mode is kept."""
+    target = Path(os.path.realpath(target))
+    folder = target.parent
+    try:
+        mode = stat.S_IMODE(target.stat().st_mode)
+    except OSError:  # a new file: what open() would give it
+        mode = 0o666 & ~_umask()
     # Same folder (so the rename is atomic) and same extension (writers that pick the format
     # from the name, such as matplotlib, still see it).
     handle, name = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".tmp{target.suffix}", dir=folder)
-    os.close(handle)
     temporary = Path(name)
     try:
+        os.close(handle)
         yield temporary
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private; this is an ordinary file
+        os.chmod(temporary, mode)  # mkstemp makes it private
         os.replace(temporary, target)
     except BaseException:
         temporary.unlink(missing_ok=True)
@@ -39,7 +83,16 @@ def atomic_path(target: str | Path) -> Iterator[Path]:
 
 
 def write_text_atomically(target: str | Path, produce: Callable[[], str]) -> None:
-    """Write ``produce()`` to ``target`` atomically (``produce`` runs before anything is replaced)."""
+    """Write ``produce()`` to ``target`` atomically (``produce`` runs before anything is
+    replaced); a FIFO or a device is written through. An :class:`OSError` names ``target``."""
     text = produce()
-    with atomic_path(target) as temporary:
-        temporary.write_text(text, encoding="utf-8")
+    real = Path(os.path.realpath(target))
+    try:
+        if real.exists() and not real.is_file():  # a FIFO or a device: it cannot be replaced
+            with open(real, "w", encoding="utf-8") as stream:
+                stream.write(text)
+            return
+        with atomic_path(real) as temporary:
+            temporary.write_text(text, encoding="utf-8")
+    except OSError as error:
+        raise OSError(error.errno, error.strerror or str(error), str(target)) from None

@@ -10,9 +10,10 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 from .errors import InvalidInputError, UnsupportedPairError
+from .limits import check_scenario
 from .narrowphase import separation
 from .shapes import AABB, Circle, Line, Plane, Sphere
-from .validate import non_negative, positive, positive_or_inf, whole_number
+from .validate import non_negative, positive, positive_or_inf, printable, whole_number
 from .vector import Vector3D, as_vector
 
 __all__ = ["Body", "BodyShape", "Mode", "Obstacle", "ObstacleShape", "Scenario", "Settings"]
@@ -21,6 +22,11 @@ BodyShape = Circle | Sphere | AABB
 ObstacleShape = Line | Plane | AABB
 Mode = Literal["euler", "exact"]
 MODES: tuple[Mode, ...] = ("euler", "exact")
+
+
+def _planar(shape: object) -> bool:
+    """A circle or a 2D box: it lives in the x-y plane and must not move out of it."""
+    return isinstance(shape, Circle) or (isinstance(shape, AABB) and shape.dim == 2)
 
 
 @dataclass(frozen=True)
@@ -45,8 +51,8 @@ class Body:
         object.__setattr__(self, "mass", positive_or_inf(self.mass, "mass"))
         if self.restitution is not None:
             object.__setattr__(self, "restitution", non_negative(self.restitution, "restitution"))
-        if isinstance(self.shape, Circle) and self.velocity.z != 0.0:
-            raise InvalidInputError("velocity", "a circle moves in the x-y plane: z must be 0")
+        if _planar(self.shape) and self.velocity.z != 0.0:  # else it would leave its plane
+            raise InvalidInputError("velocity", "a circle or a 2D box moves in the x-y plane: z must be 0")
 
     @property
     def position(self) -> Vector3D:
@@ -111,20 +117,41 @@ class Scenario:
         if not self.bodies:
             raise InvalidInputError("body", "a scenario needs at least one moving body")
         names = [b.name for b in self.bodies] + [o.name for o in self.obstacles]
+        fields = [f"body[{i}].name" for i in range(len(self.bodies))]
+        fields += [f"static[{i}].name" for i in range(len(self.obstacles))]
+        printable(self.title, "simulation.title")
         seen: set[str] = set()
-        for name in names:
+        for index, name in enumerate(names):
+            printable(name, fields[index])
             if not name:
                 raise InvalidInputError("name", "must not be empty")
             if name in seen:
                 raise InvalidInputError("name", "must be unique among bodies and obstacles", got=name)
             seen.add(name)
-        if self.settings.gravity.z != 0.0 and any(isinstance(b.shape, Circle) for b in self.bodies):
-            raise InvalidInputError("gravity", "a scenario with circles lives in the x-y plane: z must be 0")
+        flat = [i for i, b in enumerate(self.bodies) if isinstance(b.shape, AABB) and b.shape.dim == 2]
+        if flat and any(
+            isinstance(b.shape, Sphere) or (isinstance(b.shape, AABB) and b.shape.dim == 3) for b in self.bodies
+        ):
+            raise InvalidInputError(  # a sphere or a 3D box would push it along z, out of its plane
+                f"body[{flat[0]}].shape", "a moving 2D box lives in the x-y plane: it cannot meet a sphere or a 3D box"
+            )
+        if flat:
+            for index, obstacle in enumerate(self.obstacles):  # it would push a 2D box along z
+                if isinstance(obstacle.shape, Plane) and obstacle.shape.normal.z != 0.0:
+                    raise InvalidInputError(
+                        f"static[{index}].normal",
+                        "a plane meeting a 2D box must have its normal in the x-y plane (z = 0)",
+                    )
+        if self.settings.gravity.z != 0.0 and any(_planar(b.shape) for b in self.bodies):
+            raise InvalidInputError(
+                "gravity", "a scenario with circles or 2D boxes lives in the x-y plane: z must be 0"
+            )
         for a, b in self._representative_pairs():
             try:
                 separation(a.shape, b.shape)
             except UnsupportedPairError as error:
                 raise InvalidInputError(f"{b.name}", f"'{a.name}' and '{b.name}' cannot collide: {error}") from error
+        check_scenario(self)  # every magnitude within the range that can be simulated
 
     def _representative_pairs(self) -> list[tuple[Body | Obstacle, Body]]:
         """One pair for each pair of kinds of shape that can meet (a kind: the shape's type and

@@ -15,8 +15,9 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .errors import CollisionLabError, InvalidInputError
+from .errors import CollisionLabError, InvalidInputError, escape_controls
 from .gas_table import GasSpec, gas_count, place_gas
+from .limits import MAX_SCENARIO_BYTES
 from .model import Body, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive, positive_or_inf, whole_number
@@ -60,7 +61,7 @@ class ScenarioError(InvalidInputError):
     def __init__(self, source: str, field: str, problem: str, got: object = None) -> None:
         super().__init__(field, problem, got)
         self.source = source
-        self.args = (f"{source}: {self.args[0]}",)
+        self.args = (f"{escape_controls(source)}: {self.args[0]}",)
 
 
 def _check(source: str, call: Callable[[], T], field: str, names: Mapping[str, str] | None = None) -> T:
@@ -101,9 +102,27 @@ def _name(source: str, data: Mapping[str, Any], field: str, fallback: str) -> st
     return name.strip()
 
 
-def _vector(source: str, data: Mapping[str, Any], field: str, key: str) -> Vector3D:
+def _vector(source: str, data: Mapping[str, Any], field: str, key: str, dims: int | None = None) -> Vector3D:
+    """The vector at ``key``; with ``dims``, it must have exactly that many components."""
     where = f"{field}.{key}"
-    return _check(source, lambda: as_vector(_get(source, data, field, key), where), where)
+    value = _get(source, data, field, key)
+    vector = _check(source, lambda: as_vector(value, where), where)
+    _count(source, value, where, dims)
+    return vector
+
+
+def _count(source: str, value: object, where: str, dims: int | None) -> None:
+    """A 3D shape takes ``[x, y, z]``: two numbers are refused, never padded with z = 0. (A 2D
+    shape takes ``[x, y]``, or ``[x, y, 0]``: its own check refuses z != 0.)"""
+    if dims is not None and isinstance(value, list) and len(value) < dims:
+        form = "[x, y]" if dims == 2 else "[x, y, z]"
+        raise ScenarioError(source, where, f"must have {dims} numbers, {form}, for this shape", got=value)
+
+
+def _box_dims(data: Mapping[str, Any]) -> int | None:
+    """A box is 2D or 3D as its size says (2 or 3 numbers); its other vectors must agree."""
+    size = data.get("size")
+    return len(size) if isinstance(size, list) and len(size) in (2, 3) else None
 
 
 def _number(source: str, data: Mapping[str, Any], field: str, key: str, check: Callable[[object, str], float]) -> float:
@@ -125,6 +144,7 @@ def _shape_kind(source: str, data: Mapping[str, Any], field: str, kinds: tuple[s
 def _box(source: str, data: Mapping[str, Any], field: str) -> AABB:
     center = _get(source, data, field, "position")
     size = _get(source, data, field, "size")
+    _count(source, center, f"{field}.position", _box_dims(data))
     names = {"center": f"{field}.position", "size": f"{field}.size"}
     return _check(source, lambda: AABB.from_center_size(center, size), f"{field}.size", names)
 
@@ -135,14 +155,15 @@ def _body(source: str, data: object, index: int) -> Body:
     kind = _shape_kind(source, table, field, _BODY_SHAPES)
     name = _name(source, table, field, f"body{index + 1}")
     shape: Circle | Sphere | AABB
+    dims = {"circle": 2, "sphere": 3}.get(kind) or _box_dims(table)
     if kind == "aabb":
         shape = _box(source, table, field)
     else:
-        position = _vector(source, table, field, "position")
+        position = _vector(source, table, field, "position", dims)
         radius = _number(source, table, field, "radius", positive)
         maker = Circle if kind == "circle" else Sphere
         shape = _check(source, lambda: maker(position, radius), f"{field}.position")
-    velocity = _vector(source, table, field, "velocity") if "velocity" in table else Vector3D(0, 0, 0)
+    velocity = _vector(source, table, field, "velocity", dims) if "velocity" in table else Vector3D(0, 0, 0)
     mass = _number(source, table, field, "mass", positive_or_inf) if "mass" in table else 1.0
     restitution = _optional(source, table, field, "restitution")
     return _check(source, lambda: Body(name, shape, velocity, mass, restitution), f"{field}.velocity")
@@ -157,8 +178,8 @@ def _static(source: str, data: object, index: int) -> Obstacle:
     if kind == "aabb":
         shape = _box(source, table, field)
     elif kind == "line":
-        point = _vector(source, table, field, "point")
-        direction = _vector(source, table, field, "direction")
+        point = _vector(source, table, field, "point", 2)
+        direction = _vector(source, table, field, "direction", 2)
         shape = _check(source, lambda: Line(point, direction), f"{field}.direction")
     elif "points" in table:
         points = table["points"]
@@ -166,10 +187,12 @@ def _static(source: str, data: object, index: int) -> Obstacle:
             raise ScenarioError(source, f"{field}.points", "must be a list of three points [[x, y, z], ...]")
         where = f"{field}.points"
         corners = [_check(source, functools.partial(as_vector, p, where), where) for p in points]
+        for p in points:
+            _count(source, p, where, 3)
         shape = _check(source, lambda: Plane.from_points(*corners), f"{field}.points")
     else:
-        point = _vector(source, table, field, "point")
-        normal = _vector(source, table, field, "normal")
+        point = _vector(source, table, field, "point", 3)
+        normal = _vector(source, table, field, "normal", 3)
         shape = _check(source, lambda: Plane(point, normal), f"{field}.normal")
     restitution = _optional(source, table, field, "restitution")
     return Obstacle(name, shape, restitution)
@@ -265,24 +288,34 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
         raise ScenarioError(source, "simulation.title", "must be a string", got=name)
     # The scenario's own checks name a body (a pair that cannot collide), ``gravity`` or ``body``.
     names = {b.name: f"{where}.shape" for b, where in zip(bodies, fields, strict=False)}
-    names.update({"gravity": "simulation.gravity", "body": "body"})
+    names.update({"gravity": "simulation.gravity", "body": "body", "static": "static", "simulation": "simulation"})
     return _check(
         source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name, allow_overlap), "scenario", names
     )
 
 
 def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file."""
+    """Read and validate a scenario file (at most ``MAX_SCENARIO_BYTES``; UTF-8 TOML)."""
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        with open(path, "rb") as file:
+            raw = file.read(MAX_SCENARIO_BYTES + 1)  # never more: /dev/zero is endless
     except OSError as error:
         # Not bad data but a missing or unreadable file: an "other failure" (exit status 1).
-        raise CollisionLabError(f"{source}: cannot be read: {error.strerror or error}") from None
+        raise CollisionLabError(f"{escape_controls(source)}: cannot be read: {error.strerror or error}") from None
+    if len(raw) > MAX_SCENARIO_BYTES:
+        raise ScenarioError(source, "file", f"is larger than {MAX_SCENARIO_BYTES:,} bytes; a scenario file is small")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as error:
+        byte = raw[error.start]
+        raise ScenarioError(source, "file", f"is not UTF-8 text (byte 0x{byte:02x} at offset {error.start})") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise ScenarioError(source, "file", f"is not valid TOML: {error}") from None
+    except RecursionError:
+        raise ScenarioError(source, "file", "is nested too deeply (arrays or tables within each other)") from None
     return parse_scenario(data, source)
 
 

@@ -57,7 +57,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .contact import Separation
-from .errors import InvalidInputError, UnsupportedPairError
+from .errors import InvalidInputError, OutOfRangeError, UnsupportedPairError
 from .narrowphase import (
     separation_aabb_aabb,
     separation_circle_aabb,
@@ -140,9 +140,26 @@ def _derivative(p: Poly) -> Poly:
     return tuple(i * c for i, c in enumerate(p))[1:] or (0.0,)
 
 
+def _too_large() -> OutOfRangeError:
+    return OutOfRangeError(
+        "time of impact: the motion's numbers are too large to solve (a squared distance overflows); "
+        "see collisionlab.limits for the range that can be simulated"
+    )
+
+
+def _finite(p: Poly) -> Poly:
+    """``p`` when every coefficient is finite: an overflowed one would silently lose a root."""
+    if not all(math.isfinite(c) for c in p):
+        raise _too_large()
+    return p
+
+
 def _add(*ps: Poly) -> Poly:
     size = max(len(p) for p in ps)
-    return tuple(math.fsum(p[i] for p in ps if i < len(p)) for i in range(size))
+    try:
+        return _finite(tuple(math.fsum(p[i] for p in ps if i < len(p)) for i in range(size)))
+    except (OverflowError, ValueError):  # fsum: "intermediate overflow", or inf - inf
+        raise _too_large() from None
 
 
 def _square(p: Poly) -> Poly:
@@ -150,7 +167,7 @@ def _square(p: Poly) -> Poly:
     for i, ci in enumerate(p):
         for j, cj in enumerate(p):
             out[i + j] += ci * cj
-    return tuple(out)
+    return _finite(tuple(out))
 
 
 def _motion(start: float, velocity: float, acceleration: float) -> Poly:
@@ -676,12 +693,19 @@ Line-AABB, Plane-AABB (either order)
         for field, value in (("velocity_a", va), ("velocity_b", vb), ("acceleration_a", ga), ("acceleration_b", gb)):
             _require_planar_motion(field, value)
     query = _TABLE.get((type(a), type(b)))
-    if query is not None:
-        return query(a, b, vb - va, gb - ga, t)
     mirrored = _TABLE.get((type(b), type(a)))
-    if mirrored is not None:
-        impact = mirrored(b, a, va - vb, ga - gb, t)
-        return None if impact is None else impact.flipped()
+    try:
+        if query is not None:
+            return query(a, b, vb - va, gb - ga, t)
+        if mirrored is not None:
+            impact = mirrored(b, a, va - vb, ga - gb, t)
+            return None if impact is None else impact.flipped()
+    except InvalidInputError as error:  # a position or normal at the impact overflowed to inf
+        if isinstance(error.got, float) and not math.isfinite(error.got):
+            raise _too_large() from None
+        raise
+    except (OverflowError, ZeroDivisionError, ValueError):  # no raw arithmetic error escapes
+        raise _too_large() from None
     names = ", ".join(f"{x}-{y}" for x, y in toi_supported_pairs())
     raise UnsupportedPairError(
         f"no time-of-impact query for {type(a).__name__} and {type(b).__name__}; supported pairs: {names} "

@@ -7,12 +7,13 @@ from __future__ import annotations
 
 import math
 import numbers
+import unicodedata
 
 import numpy as np
 
 from .errors import InvalidInputError
 
-__all__ = ["finite_number", "non_negative", "positive", "positive_or_inf", "whole_number"]
+__all__ = ["finite_number", "non_negative", "positive", "positive_or_inf", "printable", "whole_number"]
 
 
 def _scalar(value: object) -> object:
@@ -41,7 +42,10 @@ def finite_number(value: object, field: str) -> float:
     value = _scalar(value)
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise InvalidInputError(field, "must be a number", got=value)
-    number = float(value)
+    try:
+        number = float(value)
+    except OverflowError:  # an integer (or Fraction) beyond the largest double, 1.8e308
+        raise InvalidInputError(field, "must be a finite number; this one is too large", got=value) from None
     if not math.isfinite(number):
         raise InvalidInputError(field, "must be a finite number", got=number)
     return number
@@ -66,9 +70,9 @@ def non_negative(value: object, field: str) -> float:
 def positive_or_inf(value: object, field: str) -> float:
     """A number > 0, where ``math.inf`` is allowed (a static body's mass)."""
     value = _scalar(value)
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and float(value) == math.inf:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == math.inf:
         return math.inf
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not float(value) > 0.0:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and not value > 0:  # type: ignore[operator]
         raise InvalidInputError(field, "must be > 0 (math.inf for a static body)", got=value)
     return positive(value, field)
 
@@ -76,9 +80,35 @@ def positive_or_inf(value: object, field: str) -> float:
 def whole_number(value: object, field: str, minimum: int = 1) -> int:
     """An integer >= ``minimum`` (floats with no fractional part are accepted)."""
     value = _scalar(value)
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral | numbers.Real):
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
-    number = float(value)
+    if isinstance(value, numbers.Integral):  # exact, however large (a range check comes later)
+        if int(value) < minimum:
+            raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
+        return int(value)
+    try:
+        number = float(value)
+    except OverflowError:
+        raise InvalidInputError(
+            field, f"must be a whole number >= {minimum}; this one is too large", got=value
+        ) from None
     if not math.isfinite(number) or number != int(number) or number < minimum:
         raise InvalidInputError(field, f"must be a whole number >= {minimum}", got=value)
     return int(number)
+
+
+def printable(text: str, field: str) -> str:
+    """``text`` when it holds no control or format character (an escape sequence, a newline, a
+    NUL, a bidi override): names and titles are printed, and must not forge output lines.
+
+    >>> printable("ball A", "name")
+    'ball A'
+    >>> printable("ball\\x1b[2J", "name")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: name: must not hold a control character (U+001B) (got 'ball\\x1b[2J')
+    """
+    for char in text:
+        if unicodedata.category(char) in ("Cc", "Cf", "Cs", "Zl", "Zp"):
+            raise InvalidInputError(field, f"must not hold a control character (U+{ord(char):04X})", got=text)
+    return text

@@ -20,7 +20,7 @@ from typing import Any, overload
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InvalidInputError
+from .errors import InvalidInputError, OutOfRangeError
 from .textformat import format_float
 from .tolerances import ISCLOSE_REL_TOL
 from .validate import finite_number
@@ -188,8 +188,18 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
         return Vector3D(-self.x, -self.y, -self.z)
 
     def dot(self, other: VectorLike) -> float:
+        """``x x' + y y' + z z'``; a product too large for a double raises :class:`OutOfRangeError`.
+
+        >>> Vector3D(1e308, 0).dot((10, 0))
+        Traceback (most recent call last):
+        ...
+        collisionlab.errors.OutOfRangeError: dot product: overflows (the vectors are too long)
+        """
         o = as_vector(other, "other")
-        return self.x * o.x + self.y * o.y + self.z * o.z
+        result = self.x * o.x + self.y * o.y + self.z * o.z
+        if not isfinite(result):
+            raise OutOfRangeError("dot product: overflows (the vectors are too long)")
+        return result
 
     def cross(self, other: VectorLike) -> Vector3D:
         """The cross product ``self x other`` (lab part I.A.3).
@@ -211,23 +221,34 @@ Vector3D(x=0.5, y=1.0, z=1.5), Vector3D(x=-1.0, y=-2.0, z=-3.0))
 
     def length(self) -> float:
         # hypot avoids overflow/underflow of the squares for very large or small components.
-        return math.hypot(self.x, self.y, self.z)
+        result = math.hypot(self.x, self.y, self.z)
+        if result == math.inf:  # only above 1.8e308: (1.7e308, 1.7e308) has no double length
+            raise OutOfRangeError("length: overflows (the vector is too long)")
+        return result
 
     def normalized(self, field: str = "vector") -> Vector3D:
         """The unit vector along ``self``; a zero vector is refused, naming ``field``.
 
         >>> Vector3D(0, 3, 4).normalized()
         Vector3D(x=0.0, y=0.6, z=0.8)
+        >>> Vector3D(0, 1.7e308, 1.7e308).normalized()   # scaled first: no overflow to inf
+        Vector3D(x=0.0, y=0.7071067811865476, z=0.7071067811865476)
         >>> Vector3D(0, 0, 0).normalized("direction")
         Traceback (most recent call last):
         ...
         collisionlab.errors.InvalidInputError: direction: must not be the zero vector \
 (got (0.0, 0.0, 0.0))
         """
-        length = self.length()
-        if length == 0.0:
+        largest = max(abs(self.x), abs(self.y), abs(self.z))
+        if largest == 0.0:
             raise InvalidInputError(field, "must not be the zero vector", got=self.as_tuple())
-        return Vector3D(self.x / length, self.y / length, self.z / length)
+        # Scaled first by a power of two (exact) to a largest component in [0.5, 1): the length
+        # of (0, 1.7e308, 1.7e308) would overflow to inf, and that of a subnormal vector round
+        # too coarsely; the scaled length lies in [0.5, 1.8) and the quotients are unit.
+        exponent = math.frexp(largest)[1]
+        x, y, z = (math.ldexp(c, -exponent) for c in self.as_tuple())
+        length = math.hypot(x, y, z)
+        return Vector3D(x / length, y / length, z / length)
 
     # --- lab part I ------------------------------------------------------------------------
     def parallel_projection(self, onto: VectorLike) -> Vector3D:

@@ -1,7 +1,8 @@
 """The ``collisionlab`` command line: parsing, prompting and printing only; no physics.
 
 Exit status: 0 success, 1 end of input or other failure, 2 bad command-line usage,
-65 invalid scenario data, 130 interrupted.
+65 invalid scenario data (or numbers too large to simulate), 130 interrupted (Ctrl-C),
+143 and 129 stopped by SIGTERM and SIGHUP (handled as Ctrl-C).
 """
 
 from __future__ import annotations
@@ -11,10 +12,11 @@ import sys
 from collections.abc import Sequence
 
 from .. import __version__
-from ..errors import CollisionLabError, InvalidInputError
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..scenario_file import ScenarioError
 from ..world import InitialOverlapError
 from . import examples_command, gas_command, sweep_command
+from .interrupts import Stopped, stop_on_signals
 from .menu import run_menu
 from .run_command import add_run_parsers
 from .streams import Streams
@@ -37,7 +39,8 @@ class _Parser(argparse.ArgumentParser):
     streams: Streams
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        raise UsageError(f"{self.format_usage().rstrip()}\n{self.prog}: error: {message}")
+        # The message echoes what was typed: escaped, so a newline in an argument stays one line.
+        raise UsageError(f"{self.format_usage().rstrip()}\n{self.prog}: error: {escape_controls(message)}")
 
     def _print_message(self, message: str, file: object = None) -> None:
         if message:
@@ -72,33 +75,38 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     return parser
 
 
+def _dispatch(parser: argparse.ArgumentParser, args_list: list[str], streams: Streams) -> int:
+    if not args_list:
+        if streams.interactive:
+            return run_menu(streams)
+        streams.err(parser.format_usage().rstrip())
+        streams.err(
+            "collisionlab: no command given and standard input is not a terminal; "
+            "use 'collisionlab menu' to answer the menu from a pipe, or 'collisionlab demo'"
+        )
+        return EXIT_USAGE
+    args = parser.parse_args(args_list)
+    if args.command is None:
+        streams.err(parser.format_usage().rstrip())
+        return EXIT_USAGE
+    status: int = args.func(args, streams)
+    return status
+
+
 def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> int:
     """Run the command line with ``argv`` and return the exit status (never raises)."""
     streams = streams or Streams()
     args_list = list(sys.argv[1:] if argv is None else argv)
     parser = build_parser(streams)
     try:
-        if not args_list:
-            if streams.interactive:
-                return run_menu(streams)
-            streams.err(parser.format_usage().rstrip())
-            streams.err(
-                "collisionlab: no command given and standard input is not a terminal; "
-                "use 'collisionlab menu' to answer the menu from a pipe, or 'collisionlab demo'"
-            )
-            return EXIT_USAGE
-        args = parser.parse_args(args_list)
-        if args.command is None:
-            streams.err(parser.format_usage().rstrip())
-            return EXIT_USAGE
-        status: int = args.func(args, streams)
-        return status
+        with stop_on_signals():  # SIGTERM and SIGHUP as Ctrl-C: atomic writes clean up
+            return _dispatch(parser, args_list, streams)
     except UsageError as error:
         streams.err(str(error))
         return EXIT_USAGE
     except SystemExit as stop:  # --help and argparse's own exits
         return stop.code if isinstance(stop.code, int) else EXIT_FAILURE
-    except (ScenarioError, InitialOverlapError) as error:
+    except (ScenarioError, OutOfRangeError, InitialOverlapError) as error:  # bad data, or too large to simulate
         streams.err(f"collisionlab: invalid scenario: {error}")
         return EXIT_DATA
     except InvalidInputError as error:
@@ -107,6 +115,9 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
     except CollisionLabError as error:
         streams.err(f"collisionlab: {error}")
         return EXIT_FAILURE
+    except Stopped as stop:
+        streams.err(f"\ncollisionlab: stopped by {stop.name}")
+        return stop.status
     except KeyboardInterrupt:
         streams.err("\ncollisionlab: interrupted")
         return EXIT_INTERRUPTED

@@ -12,12 +12,17 @@ import argparse
 import json
 import threading
 import time
+from collections.abc import Callable
 from typing import Any
 
-from ..errors import InvalidInputError
-from ..particles import BACKENDS, gas_scenario, warm_up
+import numpy as np
+
+from .. import limits
+from ..errors import InvalidInputError, OutOfRangeError
+from ..particles import BACKENDS, ParticleWorld, gas_scenario, warm_up
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
-from ..validate import whole_number
+from ..particles.world import StepReport
+from .interrupts import Pending, deferred_interrupts
 from .progress import SHOW_AFTER, ProgressBar
 from .streams import Streams
 
@@ -48,6 +53,9 @@ _MODES = ("stepped", "exact")
 BOUNDARIES = ("walls", "periodic")
 #: Seconds of warm-up before the note that the kernels are being compiled (as the progress bar).
 _QUIET_SECONDS = SHOW_AFTER
+#: Seconds of stepping between two looks at Ctrl-C (a compiled kernel cannot be interrupted):
+#: a fraction of a second, so an interrupt stops the run within a second.
+CHUNK_SECONDS = 0.1
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -102,6 +110,46 @@ def _warm_up(streams: Streams, notes: bool) -> None:
         warm_up()
     finally:
         note.cancel()
+
+
+def step_in_chunks(
+    world: ParticleWorld,
+    dt: float,
+    steps: int,
+    pending: Pending,
+    progress: ProgressBar | None = None,
+    clock: Callable[[], float] = time.perf_counter,
+) -> StepReport:
+    """``world.step(dt, steps)`` in chunks of about ``CHUNK_SECONDS`` (the first chunk is one
+    step, then each is sized from the time the last took, at most doubling), checking between
+    chunks for an interrupt (``pending``) and that speeds stay in the range that can be
+    simulated. With e > 1 each collision adds energy, so the chunks are single steps."""
+    done = body = wall = 0
+    chunk = 1
+    while done < steps:
+        count = min(chunk, steps - done)
+        began = clock()
+        report = world.step(dt, count)
+        took = clock() - began
+        done += count
+        body += report.body_collisions
+        wall += report.wall_collisions
+        pending.check()
+        _check_speeds(world, done)
+        if progress is not None:
+            progress(done, steps)
+        if world.restitution <= 1.0:
+            chunk = max(1, min(2 * count, int(count * CHUNK_SECONDS / took) if took > 0 else 2 * count))
+    return StepReport(steps, body, wall)
+
+
+def _check_speeds(world: ParticleWorld, done: int) -> None:
+    speeds = np.abs(world.velocities)
+    if not (np.all(np.isfinite(speeds)) and speeds.max(initial=0.0) <= limits.MAX_GAS_SPEED):
+        raise OutOfRangeError(
+            f"the gas at step {done}: speeds grew beyond {limits.MAX_GAS_SPEED:g} (restitution "
+            f"{world.restitution:g} > 1 adds energy at every collision): too large to simulate"
+        )
 
 
 def _table(report: dict[str, Any]) -> list[str]:
@@ -211,13 +259,15 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         return _run_exact(args, streams)
     notes = bool(streams.interactive) and not args.quiet
     try:
-        steps = whole_number(args.steps, "steps")
+        steps = limits.steps(args.steps, "steps")
+        restitution = limits.restitution(args.restitution, "restitution")
+        gravity = limits.within(args.gravity, "gravity", 0.0, limits.MAX_ACCELERATION)
         if args.plot is not None:
             from ..plotting import check_plot_path  # matplotlib loads only when a plot is asked for
 
             check_plot_path(args.plot)
         scenario = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
-        world = scenario.world(restitution=args.restitution, gravity=args.gravity, backend=args.backend)
+        world = scenario.world(restitution=restitution, gravity=gravity, backend=args.backend)
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
@@ -232,7 +282,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     bar = ProgressBar(streams, label="gas steps")
     began = time.perf_counter()
     try:
-        stepped = world.step(scenario.dt, steps, progress=bar if notes else None)
+        with deferred_interrupts() as pending:  # Ctrl-C is checked between chunks of the kernels
+            stepped = step_in_chunks(world, scenario.dt, steps, pending, bar if notes else None)
     finally:
         bar.close()
     seconds = time.perf_counter() - began

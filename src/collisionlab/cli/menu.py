@@ -9,11 +9,12 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+from .. import limits
 from ..atomic import write_text_atomically
 from ..errors import InvalidInputError
-from ..scenario_file import parse_scenario, scenario_to_toml
+from ..scenario_file import ScenarioError, parse_scenario, scenario_to_toml
 from ..shapes import Plane
-from ..validate import finite_number, non_negative, positive, whole_number
+from ..validate import finite_number, positive
 from ..vector import Vector3D
 from ..world import World
 from .progress import ProgressBar
@@ -35,6 +36,11 @@ class Question:
     form: str
     default: str
     parse: Callable[[str, Answers], Any]
+    #: A default that depends on the earlier answers (the plane's third point), else ``default``.
+    suggest: Callable[[Answers], str] | None = None
+
+    def default_for(self, answers: Answers) -> str:
+        return self.suggest(answers) if self.suggest is not None else self.default
 
 
 def _numbers(text: str, count: int, field: str) -> list[float]:
@@ -51,8 +57,17 @@ def _numbers(text: str, count: int, field: str) -> list[float]:
     return [finite_number(v, field) for v in values]
 
 
-def _vector(dims: int) -> Callable[[str, Answers], list[float]]:
-    return lambda text, answers: _numbers(text, dims, "vector")
+def _vector(
+    dims: int, field: str, high: float = limits.MAX_COORDINATE, unit: str = "m"
+) -> Callable[[str, Answers], list[float]]:
+    """A vector of ``dims`` numbers, each at most ``high`` in size (the range that can be simulated)."""
+
+    def parse(text: str, answers: Answers) -> list[float]:
+        values = _numbers(text, dims, field)
+        limits.check_vector(Vector3D(*values), field, high, unit)
+        return values
+
+    return parse
 
 
 def _direction(dims: int) -> Callable[[str, Answers], list[float]]:
@@ -65,20 +80,33 @@ def _direction(dims: int) -> Callable[[str, Answers], list[float]]:
 
 
 def _size(dims: int) -> Callable[[str, Answers], list[float]]:
-    return lambda text, answers: [positive(v, "size") for v in _numbers(text, dims, "size")]
+    def parse(text: str, answers: Answers) -> list[float]:
+        sizes = [positive(v, "size") for v in _numbers(text, dims, "size")]
+        return [limits.within(v, "size", limits.MIN_SIZE, limits.MAX_SIZE, "m") for v in sizes]
+
+    return parse
 
 
-def _positive(field: str) -> Callable[[str, Answers], float]:
-    return lambda text, answers: positive(_numbers(text, 1, field)[0], field)
+def _positive(field: str, low: float, high: float, unit: str) -> Callable[[str, Answers], float]:
+    return lambda text, answers: limits.within(positive(_numbers(text, 1, field)[0], field), field, low, high, unit)
 
 
 def _restitution(text: str, answers: Answers) -> float:
-    return non_negative(_numbers(text, 1, "restitution")[0], "restitution")
+    return limits.restitution(_numbers(text, 1, "restitution")[0], "restitution")
 
 
-def _steps(text: str, answers: Answers) -> int:
-    value = _numbers(text, 1, "steps")[0]
-    return whole_number(value, "steps", minimum=1)
+def _dt(text: str, answers: Answers) -> float:
+    return limits.dt(_numbers(text, 1, "dt")[0], "dt")
+
+
+def _steps(bodies: int) -> Callable[[str, Answers], int]:
+    """A number of steps; with ``bodies`` moving bodies, at most ``MAX_BODY_STEPS / bodies``."""
+
+    def parse(text: str, answers: Answers) -> int:
+        steps = limits.steps(_numbers(text, 1, "steps")[0], "steps")
+        return int(limits.within(steps, "steps", 0, limits.MAX_BODY_STEPS // bodies))
+
+    return parse
 
 
 def _mode(text: str, answers: Answers) -> str:
@@ -89,7 +117,7 @@ def _mode(text: str, answers: Answers) -> str:
 
 
 def _third_point(text: str, answers: Answers) -> list[float]:
-    point = _numbers(text, 3, "point 3")
+    point = _vector(3, "point 3")(text, answers)
     try:
         Plane.from_points(answers["p1"], answers["p2"], point)
     except InvalidInputError:
@@ -97,27 +125,45 @@ def _third_point(text: str, answers: Answers) -> list[float]:
     return point
 
 
+def _suggest_third_point(answers: Answers) -> str:
+    """A third point off the line through the first two: the first point moved one unit along
+    the first axis that does it (so Enter always gives a plane)."""
+    first = answers["p1"]
+    for axis in range(3):
+        candidate = [c + (1.0 if i == axis else 0.0) for i, c in enumerate(first)]
+        try:
+            Plane.from_points(first, answers["p2"], candidate)
+        except InvalidInputError:
+            continue
+        return " ".join(f"{c:g}" for c in candidate)
+    return "1 0 0"  # not reached: two distinct points leave two axes off their line
+
+
 def _body(label: str, key: str, dims: int, kind: str, position: str, extent: str, velocity: str) -> list[Question]:
     form = "x y z, three numbers" if dims == 3 else "x y, two numbers"
-    questions = [Question(f"{key}.position", f"initial position of {label}", form, position, _vector(dims))]
+    where = f"the centre of {label}" if kind == "aabb" else label
+    questions = [Question(f"{key}.position", f"initial position of {where}", form, position, _vector(dims, "position"))]
     if kind == "aabb":
         size_form = "edge lengths along x y z, three numbers > 0" if dims == 3 else "edge lengths along x y, > 0"
         questions.append(Question(f"{key}.size", f"extent of {label}", size_form, extent, _size(dims)))
     else:
-        questions.append(Question(f"{key}.radius", f"radius of {label}", "a number > 0", extent, _positive("radius")))
-    questions.append(Question(f"{key}.velocity", f"initial velocity of {label}", form, velocity, _vector(dims)))
+        radius = _positive("radius", limits.MIN_SIZE, limits.MAX_SIZE, "m")
+        questions.append(Question(f"{key}.radius", f"radius of {label}", "a number > 0", extent, radius))
+    speed = _vector(dims, "velocity", limits.MAX_SPEED, "m/s")
+    questions.append(Question(f"{key}.velocity", f"initial velocity of {label}", form, velocity, speed))
     return questions
 
 
 def _mass(label: str, key: str, default: str) -> Question:
-    return Question(f"{key}.mass", f"mass of {label}", "kg, a number > 0", default, _positive("mass"))
+    mass = _positive("mass", limits.MIN_MASS, limits.MAX_MASS, "kg")
+    return Question(f"{key}.mass", f"mass of {label}", "kg, a number > 0", default, mass)
 
 
-def _common(e: str, dt: str, steps: str) -> list[Question]:
+def _common(e: str, dt: str, steps: str, bodies: int = 1) -> list[Question]:
     return [
         Question("restitution", "coefficient of restitution e", "a number >= 0; 1 elastic, 0 sticks", e, _restitution),
-        Question("dt", "time step dt", "seconds, > 0", dt, _positive("dt")),
-        Question("steps", "number of steps", "a whole number >= 1", steps, _steps),
+        Question("dt", "time step dt", "seconds, > 0", dt, _dt),
+        Question("steps", "number of steps", "a whole number >= 1", steps, _steps(bodies)),
         Question("mode", "stepping", "euler (the lab's) or exact (nothing tunnels)", "euler", _mode),
     ]
 
@@ -145,7 +191,7 @@ CASES: list[Case] = [
         "AABB in 3D",
         [
             *_two_bodies("box", "aabb", 3, ("0 0 0", "1 1 1", "1 0 0", "3.05 0.2 0.1", "1 1 1", "-1 0 0")),
-            *_common("1", "0.01", "200"),
+            *_common("1", "0.01", "200", bodies=2),
         ],
         "aabb",
         None,
@@ -154,7 +200,7 @@ CASES: list[Case] = [
         "sphere and sphere",
         [
             *_two_bodies("sphere", "sphere", 3, ("0 0 0", "0.5", "1 0 0", "3 0.3 0", "0.5", "-1 0 0")),
-            *_common("1", "0.01", "200"),
+            *_common("1", "0.01", "200", bodies=2),
         ],
         "sphere",
         None,
@@ -164,7 +210,7 @@ CASES: list[Case] = [
         [
             *_body("the circle", "a", 2, "circle", "0 2.01", "0.5", "1 -2"),
             Question("line.direction", "direction of the line", "dx dy, two numbers, not both 0", "1 0", _direction(2)),
-            Question("line.point", "a point on the line", "x y, two numbers", "0 0", _vector(2)),
+            Question("line.point", "a point on the line", "x y, two numbers", "0 0", _vector(2, "point")),
             *_common("0.8", "0.01", "150"),
         ],
         "circle",
@@ -174,10 +220,15 @@ CASES: list[Case] = [
         "sphere and plane",
         [
             *_body("the sphere", "a", 3, "sphere", "0 3.01 0", "0.5", "1 -2 0.5"),
-            Question("p1", "first point on the plane", "x y z, three numbers", "0 0 0", _vector(3)),
-            Question("p2", "second point on the plane", "x y z, three numbers", "0 0 1", _vector(3)),
+            Question("p1", "first point on the plane", "x y z, three numbers", "0 0 0", _vector(3, "point 1")),
+            Question("p2", "second point on the plane", "x y z, three numbers", "0 0 1", _vector(3, "point 2")),
             Question(
-                "p3", "third point on the plane", "x y z, not on the line through the first two", "1 0 0", _third_point
+                "p3",
+                "third point on the plane",
+                "x y z, not on the line through the first two",
+                "1 0 0",
+                _third_point,
+                _suggest_third_point,
             ),
             *_common("0.8", "0.01", "200"),
         ],
@@ -188,7 +239,7 @@ CASES: list[Case] = [
         "circle and circle",
         [
             *_two_bodies("circle", "circle", 2, ("0 0", "0.5", "1 0", "3 0.4", "0.5", "-1 0")),
-            *_common("1", "0.01", "200"),
+            *_common("1", "0.01", "200", bodies=2),
         ],
         "circle",
         None,
@@ -197,7 +248,7 @@ CASES: list[Case] = [
         "AABB in 2D",
         [
             *_two_bodies("box", "aabb", 2, ("0 0", "1 1", "1 0", "3.05 0.3", "1 1", "-1 0")),
-            *_common("1", "0.01", "200"),
+            *_common("1", "0.01", "200", bodies=2),
         ],
         "aabb",
         None,
@@ -206,7 +257,9 @@ CASES: list[Case] = [
         "sphere and a fixed box",
         [
             *_body("the sphere", "a", 3, "sphere", "-3 0.5 0", "0.5", "2 0 0"),
-            Question("box.position", "centre of the fixed box", "x y z, three numbers", "0 0 0", _vector(3)),
+            Question(
+                "box.position", "centre of the fixed box", "x y z, three numbers", "0 0 0", _vector(3, "position")
+            ),
             Question("box.size", "extent of the fixed box", "edge lengths along x y z, > 0", "2 2 2", _size(3)),
             *_common("0.9", "0.01", "200"),
         ],
@@ -217,7 +270,7 @@ CASES: list[Case] = [
         "circle and a fixed box",
         [
             *_body("the circle", "a", 2, "circle", "-3 0.8", "0.5", "3 0"),
-            Question("box.position", "centre of the fixed box", "x y, two numbers", "0 0", _vector(2)),
+            Question("box.position", "centre of the fixed box", "x y, two numbers", "0 0", _vector(2, "position")),
             Question("box.size", "extent of the fixed box", "edge lengths along x y, > 0", "2 2", _size(2)),
             *_common("0.9", "0.01", "150"),
         ],
@@ -271,12 +324,13 @@ class _Dialogue:
         return line.strip()
 
     def question(self, q: Question, answers: Answers) -> Any:
+        default = q.default_for(answers)
         while True:
-            text = self.ask(f"{q.text} ({q.form}) [{q.default}]: ") or q.default
+            text = self.ask(f"{q.text} ({q.form}) [{default}]: ") or default
             try:
                 value = q.parse(text, answers)
             except InvalidInputError as error:
-                self.streams.out(f"  ! {error.problem if error.field in ('vector',) else error}; try again")
+                self.streams.out(f"  ! {error}; try again")
                 continue
             if q.key == "restitution" and isinstance(value, float) and value > 1.0:
                 self.streams.out("  warning: e > 1: kinetic energy will grow with every collision (postlab Q4)")
@@ -326,7 +380,15 @@ def run_menu(streams: Streams) -> int:
     answers: Answers = {}
     for q in case.questions:
         answers[q.key] = dialogue.question(q, answers)
-    scenario = parse_scenario(_scenario_data(case, answers), "<menu>")
+    while True:
+        try:
+            scenario = parse_scenario(_scenario_data(case, answers), "<menu>")
+            break
+        except ScenarioError as error:  # the answers together (exact mode too fast for dt): ask the step again
+            streams.out(f"  ! {error.field}: {error.problem}; try again")
+            for q in case.questions:
+                if q.key in ("dt", "steps", "mode"):
+                    answers[q.key] = dialogue.question(q, answers)
     bar = ProgressBar(streams, scenario.title)
     try:
         record = World(scenario).run(progress=bar)

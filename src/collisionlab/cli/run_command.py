@@ -7,13 +7,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
-from ..atomic import write_text_atomically
+from .. import limits
+from ..atomic import check_target, write_text_atomically
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
-from ..errors import InvalidInputError
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..model import Scenario
 from ..record import RunRecord
 from ..scenario_file import load_scenario
-from ..validate import non_negative, positive, whole_number
+from ..validate import whole_number
 from ..world import World
 from .progress import ProgressBar
 from .render import render
@@ -43,14 +44,15 @@ def _flag_value(
     return convert
 
 
-positive_float = _flag_value(positive)
-non_negative_float = _flag_value(non_negative)
 positive_int = _flag_value(whole_number, int, "a whole number >= 1")
+dt_flag = _flag_value(limits.dt)
+restitution_flag = _flag_value(limits.restitution)
+steps_flag = _flag_value(limits.steps, int, "a whole number >= 1")
 
 
 def _add_common(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--steps", type=positive_int, help="number of steps (overrides the scenario)")
-    parser.add_argument("--dt", type=positive_float, help="time step in seconds (overrides the scenario)")
+    parser.add_argument("--steps", type=steps_flag, help="number of steps (overrides the scenario)")
+    parser.add_argument("--dt", type=dt_flag, help="time step in seconds (overrides the scenario)")
     parser.add_argument(
         "--mode",
         choices=("euler", "exact"),
@@ -58,7 +60,7 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--restitution",
-        type=non_negative_float,
+        type=restitution_flag,
         metavar="E",
         help="default coefficient of restitution (overrides the scenario; > 1 adds energy)",
     )
@@ -92,7 +94,7 @@ def add_run_parsers(sub: Any) -> None:
 
 def _run_file(args: argparse.Namespace, streams: Streams) -> int:
     path = args.file if Path(args.file).exists() else builtin_scenario_path(args.file) or args.file
-    return execute([load_scenario(path)], args, streams)
+    return execute([load_scenario(path)], args, streams, sources=[args.file])
 
 
 def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
@@ -101,7 +103,7 @@ def _run_demo(args: argparse.Namespace, streams: Streams) -> int:
             streams.out(f"{name:<16}{load_demo(name).title}")
         return 0
     names = [args.name] if args.name else list(LAB_DEMOS)
-    return execute([load_demo(n) for n in names], args, streams, labels=names)
+    return execute([load_demo(n) for n in names], args, streams, labels=names, sources=[f"demo {n}" for n in names])
 
 
 def _suffixed(path: str, label: str | None) -> str:
@@ -134,10 +136,15 @@ def _pictures(
 
 
 def execute(
-    scenarios: list[Scenario], args: argparse.Namespace, streams: Streams, labels: list[str] | None = None
+    scenarios: list[Scenario],
+    args: argparse.Namespace,
+    streams: Streams,
+    labels: list[str] | None = None,
+    sources: list[str] | None = None,
 ) -> int:
     """Apply the flags to each scenario, run it, and print or write the output. ``labels`` name
-    the scenarios' pictures when there are several (default: their titles)."""
+    the scenarios' pictures when there are several (default: their titles); ``sources`` (a file
+    or a demo for each scenario) name it when its run goes out of range."""
     if args.explain and args.format != "table":
         raise InvalidInputError(
             "--explain",
@@ -148,17 +155,27 @@ def execute(
         from .. import plotting  # matplotlib and plotly load only when a picture is asked for
 
         plotting.check_paths(args.plot, args.animate, args.html)  # fail now, not after the run
+    if args.output is not None:
+        check_target(args.output, "--output")  # as the pictures: before the run
     overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
     texts: list[str] = []
     records: list[RunRecord] = []
     for index, scenario in enumerate(scenarios):
         label = None if len(scenarios) == 1 else labels[index] if labels else scenario.title
         if overrides:
-            scenario = scenario.with_settings(**overrides)
+            try:
+                scenario = scenario.with_settings(**overrides)
+            except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
+                flag = error.field.replace("simulation.", "--")
+                raise error.renamed(flag) if flag[2:] in overrides else error from None
+        # The kept frames must fit in memory: say so before the run, naming the flag.
+        limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
         bar = ProgressBar(streams, scenario.title)
         try:
             # Frames are kept every --every steps only, so memory follows the output, not the run.
             record = World(scenario, notify=streams.err).run(every=args.every, progress=bar)
+        except OutOfRangeError as error:
+            raise error.within(sources[index]) if sources else error from None
         finally:
             bar.close()
         records.append(record)
@@ -177,8 +194,12 @@ def execute(
         text = parts[0] + "\n" if len(parts) == 1 else "[\n" + ",\n".join(parts) + "\n]\n"
     else:
         text = "\n".join(texts)
-    if args.output:
-        write_text_atomically(args.output, lambda: text)
+    if args.output is not None:
+        try:
+            write_text_atomically(args.output, lambda: text)
+        except OSError as error:
+            shown = escape_controls(args.output)
+            raise CollisionLabError(f"--output: cannot write {shown}: {error.strerror or error}") from None
         streams.err(f"wrote {args.output}")
     else:
         streams.stdout.write(text)

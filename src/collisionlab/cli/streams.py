@@ -6,6 +6,8 @@ import sys
 from dataclasses import dataclass, field
 from typing import TextIO
 
+from ..errors import escape_controls
+
 __all__ = ["Streams"]
 
 
@@ -33,4 +35,6 @@ class Streams:
         self.stdout.write(text + "\n")
 
     def err(self, text: str) -> None:
-        self.stderr.write(text + "\n")
+        """One message (a usage error's usage before it); a control character that a value
+        carried in is escaped, so it can neither forge lines nor drive the terminal."""
+        self.stderr.write(escape_controls(text, keep="\n") + "\n")

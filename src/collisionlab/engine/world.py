@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import limits
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..record import BodyState, CollisionEvent, Frame, RunRecord, SkippedContact
@@ -355,6 +356,8 @@ class World:
         """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
         ``progress(done, total)`` is called between chunks of steps."""
         total = self.scenario.settings.steps
+        limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
+        guard = limits.RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
         if not self.record.frames:
             self.record.frames.append(self.frame())
         # Steps per call: one for the Python forms; compiled, as many as take about
@@ -364,7 +367,15 @@ class World:
             to_frame = every - self.step_index % every
             count = min(to_frame, chunk, total - self.step_index)
             started = time.perf_counter()
-            self.step(count)
+            try:
+                self.step(count)
+            except (InvalidInputError, ArithmeticError) as error:
+                if not limits.is_overflow(error):
+                    raise
+                raise guard.overflowed(self.step_index, error) from None
+            warning = guard.check_arrays(self.step_index, self.time, self.position_array, self.velocity_array)
+            if warning:
+                self.record.warnings.append(warning)
             if self._compiled and self._exact is None:
                 took = time.perf_counter() - started
                 chunk = max(1, min(4 * chunk, int(count * _CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))

@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, OutOfRangeError
+from ..limits import MAX_RUN_COORDINATE
 from ..model import Scenario
 from ..record import CollisionEvent, RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
@@ -81,6 +82,14 @@ def thin_indices(count: int, limit: int, keep: Sequence[int] = ()) -> NDArray[np
     return np.unique(np.concatenate([base, extra]))
 
 
+def _check_drawable(record: RunRecord) -> None:
+    """Pictures draw coordinates up to ``MAX_RUN_COORDINATE`` (what a run may reach): beyond,
+    axis ticks, float32 pages and numpy's arange overflow."""
+    farthest = max((abs(c) for frame in record.frames for body in frame.bodies for c in body.position), default=0.0)
+    if farthest > MAX_RUN_COORDINATE:
+        raise OutOfRangeError(f"the run reaches {farthest:.3g} m, beyond the {MAX_RUN_COORDINATE:g} m a picture draws")
+
+
 def _vec(v: Vector3D) -> Array:
     return np.array([v.x, v.y, v.z], dtype=np.float64)
 
@@ -132,6 +141,7 @@ class RunArrays:
         for name in names:
             if name not in by_name:
                 raise InvalidInputError("record", f"body {name!r} is not in the scenario")
+        _check_drawable(record)
         frames = record.frames
         count, nb = len(frames), len(names)
         flat_x = np.empty((count, nb * 6), dtype=np.float64)

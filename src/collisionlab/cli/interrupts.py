@@ -1,0 +1,83 @@
+"""Signals: SIGTERM and SIGHUP are handled as Ctrl-C (files written atomically are cleaned up,
+one line, exit status 128 + the signal's number), and compiled loops that Python cannot
+interrupt are stepped in short chunks with the interrupt checked between them."""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+from collections.abc import Iterator
+from types import FrameType
+
+__all__ = ["Pending", "Stopped", "deferred_interrupts", "stop_on_signals"]
+
+#: The signals handled as Ctrl-C, where the platform has them.
+_SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+class Stopped(KeyboardInterrupt):
+    """SIGTERM or SIGHUP, raised where Ctrl-C's KeyboardInterrupt would be.
+
+    >>> Stopped(signal.SIGTERM).status, Stopped(signal.SIGTERM).name
+    (143, 'SIGTERM')
+    """
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+        self.name = signal.Signals(signum).name
+        self.status = 128 + signum
+
+
+def _raise(signum: int, frame: FrameType | None) -> None:
+    raise Stopped(signum)
+
+
+@contextlib.contextmanager
+def _handlers(signals: tuple[int, ...], handler: signal.Handlers | object) -> Iterator[None]:
+    """Install ``handler`` for ``signals`` (only the main thread can), restoring them after."""
+    saved: dict[int, object] = {}
+    try:
+        for signum in signals:
+            saved[signum] = signal.signal(signum, handler)  # type: ignore[arg-type]
+    except ValueError:  # not the main thread: leave the signals alone
+        pass
+    try:
+        yield
+    finally:
+        for signum, previous in saved.items():
+            signal.signal(signum, previous)  # type: ignore[arg-type]
+
+
+@contextlib.contextmanager
+def stop_on_signals() -> Iterator[None]:
+    """Within: SIGTERM and SIGHUP raise :class:`Stopped` (a KeyboardInterrupt)."""
+    with _handlers(_SIGNALS, _raise):
+        yield
+
+
+class Pending:
+    """The first interrupt that arrived while deferred; :meth:`check` raises it."""
+
+    def __init__(self) -> None:
+        self.signum: int | None = None
+
+    def note(self, signum: int, frame: FrameType | None) -> None:
+        if self.signum is None:
+            self.signum = signum
+
+    def check(self) -> None:
+        if self.signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        if self.signum is not None:
+            raise Stopped(self.signum)
+
+
+@contextlib.contextmanager
+def deferred_interrupts() -> Iterator[Pending]:
+    """Within: Ctrl-C, SIGTERM and SIGHUP are only noted, for the caller to :meth:`Pending.check`
+    between chunks of work that cannot be interrupted (a numba kernel: an exception raised in
+    its middle surfaces as "SystemError: CPUDispatcher returned a result with an exception set")."""
+    pending = Pending()
+    with _handlers((signal.SIGINT, *_SIGNALS), pending.note):
+        yield pending

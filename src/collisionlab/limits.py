@@ -1,0 +1,361 @@
+"""The range of magnitudes collisionlab simulates, decided here and nowhere else.
+
+A scenario is refused before it runs (:func:`check_scenario`, called by
+:class:`~collisionlab.model.Scenario`) when a number lies outside these bounds, with a one-line
+:class:`~collisionlab.errors.InvalidInputError` naming the field. Inside them every product the
+simulation forms (``m v^2``, ``m g x``, the squared distances of time of impact) stays far from
+overflow, and the absolute tolerances of :mod:`collisionlab.tolerances` (nanometres) still
+resolve the scene. A run whose numbers grow out of range anyway (restitution above 1 adds energy
+at each collision) stops with :class:`~collisionlab.errors.OutOfRangeError` at that step
+(:class:`RangeGuard`), so no output ever holds ``inf`` or ``NaN``.
+
+The bounds (SI units):
+
+==========================  ===================  ==============================================
+what                        range                why
+==========================  ===================  ==============================================
+coordinates (any point)     ``|x| <= 1e9`` m     ``ulp(1e9) ~ 1e-7`` m: ``CONTACT_MARGIN`` still
+                                                 resolves a contact there
+radius, box edge            ``1e-6 .. 1e9`` m    1000x the contact tolerances at the small end
+speed (each component)      ``<= 1e9`` m/s       ``m v^2`` stays below 1e50 J
+gravity (each component)    ``<= 1e9`` m/s^2
+mass                        ``1e-30 .. 1e30`` kg
+dt                          ``1e-9 .. 1e6`` s
+steps x moving bodies       ``<= 2e6``           a run keeps every frame: 0.40-0.46 kB per
+                                                 body and step (measured), so at most ~1 GB
+restitution                 ``0 .. 10``
+exact mode: travel per      ``<= 1e6`` x the     time of impact resolves a touch to about
+step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the distance
+                            half edge            travelled; beyond ~1e7 sizes per step it misses
+during a run: positions     ``|x| <= 1e12`` m,   beyond: the run stops (exit status 65)
+and speeds                  ``|v| <= 1e12`` m/s
+gas: speeds during a run    ``<= 1e100``         the balls stay in their box; only squares
+                                                 can overflow
+scenario file               ``<= 1,000,000``
+                            bytes
+==========================  ===================  ==============================================
+
+>>> within(2.0, "dt", MIN_DT, MAX_DT, "s")
+2.0
+>>> within(1e308, "dt", MIN_DT, MAX_DT, "s")
+Traceback (most recent call last):
+...
+collisionlab.errors.InvalidInputError: dt: must be at most 1e+06 s, the largest collisionlab simulates (got 1e+308)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .errors import InvalidInputError, OutOfRangeError
+from .validate import non_negative, positive, whole_number
+from .vector import Vector3D
+
+if TYPE_CHECKING:
+    from .model import Scenario
+
+__all__ = [
+    "MAX_ACCELERATION",
+    "MAX_BODY_STEPS",
+    "MAX_COORDINATE",
+    "MAX_DT",
+    "MAX_GAS_SPEED",
+    "MAX_MASS",
+    "MAX_RESTITUTION",
+    "MAX_RUN_COORDINATE",
+    "MAX_RUN_SPEED",
+    "MAX_SCENARIO_BYTES",
+    "MAX_SIZE",
+    "MAX_SPEED",
+    "MAX_STEPS",
+    "MAX_TRAVEL_PER_SIZE",
+    "MIN_DT",
+    "MIN_MASS",
+    "MIN_SIZE",
+    "RangeGuard",
+    "check_frames",
+    "check_scenario",
+    "check_vector",
+    "dt",
+    "is_overflow",
+    "restitution",
+    "steps",
+    "within",
+]
+
+#: Metres: the largest coordinate of any point a scenario gives.
+MAX_COORDINATE = 1e9
+#: Metres: the smallest and largest radius or box edge.
+MIN_SIZE = 1e-6
+MAX_SIZE = 1e9
+#: m/s, per component.
+MAX_SPEED = 1e9
+#: m/s^2, per component of gravity.
+MAX_ACCELERATION = 1e9
+#: Kilograms.
+MIN_MASS = 1e-30
+MAX_MASS = 1e30
+#: Seconds.
+MIN_DT = 1e-9
+MAX_DT = 1e6
+#: Frames kept times moving bodies of one run: each kept frame holds every body's state, 0.40-0.46
+#: kB per body (measured with tracemalloc on the spheres and newtons-cradle demos), so ~1 GB here.
+#: A run keeps a frame every ``every`` steps (``--every``), so long runs fit by keeping fewer.
+MAX_BODY_STEPS = 2_000_000
+#: Steps of one run (a single body): the same bound.
+MAX_STEPS = MAX_BODY_STEPS
+#: Dimensionless: the largest coefficient of restitution (above 1 each collision adds energy).
+MAX_RESTITUTION = 10.0
+#: Exact mode: how many times its smallest radius (or half edge) a body may travel relative to
+#: another in one step; measured: misses begin near 1e7-1e8 (tests/test_limits.py).
+MAX_TRAVEL_PER_SIZE = 1e6
+#: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
+MAX_RUN_COORDINATE = 1e12
+MAX_RUN_SPEED = 1e12
+#: Radii per time unit: the many-body gas (``collisionlab gas``) stops when a speed passes this.
+#: Its balls stay in their box, so only the squares (energies) can overflow: 1e100 leaves 200
+#: orders of magnitude, far more than one step of collisions can add at e <= MAX_RESTITUTION.
+MAX_GAS_SPEED = 1e100
+#: Bytes: the largest scenario file read (a file is read up to this and one byte more).
+MAX_SCENARIO_BYTES = 1_000_000
+
+
+def within(value: float, field: str, low: float, high: float, unit: str = "") -> float:
+    """``value`` when ``low <= |value| <= high`` (``low = 0`` allows 0), else an error naming ``field``."""
+    units = f" {unit}" if unit else ""
+    if isinstance(value, float) and not math.isfinite(value):  # (an int is finite, however large)
+        raise InvalidInputError(field, "must be a finite number", value)
+    if abs(value) > high:
+        raise InvalidInputError(field, f"must be at most {high:g}{units}, the largest collisionlab simulates", value)
+    if abs(value) < low:
+        raise InvalidInputError(field, f"must be at least {low:g}{units}, the smallest collisionlab simulates", value)
+    return value
+
+
+def dt(value: object, field: str) -> float:
+    """A time step: a number > 0 within ``[MIN_DT, MAX_DT]`` (a flag's check, as a file's)."""
+    return within(positive(value, field), field, MIN_DT, MAX_DT, "s")
+
+
+def steps(value: object, field: str) -> int:
+    """A number of steps: a whole number >= 1, at most ``MAX_STEPS``."""
+    count = whole_number(value, field, minimum=1)
+    within(count, field, 0, MAX_STEPS)
+    return count
+
+
+def restitution(value: object, field: str) -> float:
+    """A coefficient of restitution in ``[0, MAX_RESTITUTION]``."""
+    return within(non_negative(value, field), field, 0.0, MAX_RESTITUTION)
+
+
+def check_vector(vector: Vector3D, field: str, high: float, unit: str) -> Vector3D:
+    """``vector`` when every component is at most ``high`` in size."""
+    for component in vector:
+        if abs(component) > high:
+            within(component, field, 0.0, high, unit)
+    return vector
+
+
+def _sizes(shape: object) -> list[float]:
+    """A body's radius, or its box's edges (the ones it has: 2 for a 2D box)."""
+    from .shapes import AABB
+
+    if isinstance(shape, AABB):
+        return list((shape.max_corner - shape.min_corner).as_tuple()[: shape.dim])
+    radius = getattr(shape, "radius", None)
+    return [] if radius is None else [float(radius)]
+
+
+def _points(shape: object) -> list[tuple[str, Vector3D]]:
+    """The points a shape is placed by, under the name a scenario file gives them."""
+    from .shapes import AABB, Circle, Line, Plane, Sphere
+
+    if isinstance(shape, AABB):
+        return [("position", shape.min_corner), ("position", shape.max_corner)]
+    if isinstance(shape, (Circle, Sphere)):
+        return [("position", shape.center)]
+    if isinstance(shape, (Line, Plane)):
+        return [("point", shape.point)]
+    return []
+
+
+def _smallest_half_size(shape: object) -> float:
+    sizes = _sizes(shape)
+    from .shapes import AABB
+
+    return min(sizes) * 0.5 if isinstance(shape, AABB) else min(sizes)
+
+
+def check_frames(steps: int, every: int, bodies: int, field: str = "steps") -> None:
+    """Refuse a run whose kept frames (one every ``every`` steps, and the first and last) times its
+    ``bodies`` exceed ``MAX_BODY_STEPS``: it would not fit in memory.
+
+    >>> check_frames(1_000_000, 1000, 2)   # 1,001 frames of 2 bodies
+    >>> try:
+    ...     check_frames(2_000_000, 1, 5)
+    ... except InvalidInputError as error:
+    ...     print(error.field, "2,000,001 frames of 5 bodies" in str(error))
+    steps True
+    """
+    frames = steps // every + 1 + (1 if steps % every else 0)
+    if frames * bodies > MAX_BODY_STEPS:
+        raise InvalidInputError(
+            field,
+            f"keeps {frames:,} frames of {bodies:,} bodies: at most {MAX_BODY_STEPS:,} body-frames fit in memory; "
+            "keep fewer frames (--every) or run fewer steps",
+            steps,
+        )
+
+
+def check_scenario(scenario: Scenario) -> None:
+    """Refuse a scenario with a number outside the range above, naming the field as a scenario
+    file does (``simulation.dt``, ``body[0].velocity``, ``static[1].point``)."""
+    s = scenario.settings
+    within(s.dt, "simulation.dt", MIN_DT, MAX_DT, "s")
+    within(s.steps, "simulation.steps", 0, MAX_STEPS)
+    within(s.restitution, "simulation.restitution", 0.0, MAX_RESTITUTION)
+    check_vector(s.gravity, "simulation.gravity", MAX_ACCELERATION, "m/s^2")
+    for index, body in enumerate(scenario.bodies):
+        where = f"body[{index}]"
+        for key, point in _points(body.shape):
+            check_vector(point, f"{where}.{key}", MAX_COORDINATE, "m")
+        for size in _sizes(body.shape):
+            within(size, f"{where}.{'radius' if hasattr(body.shape, 'radius') else 'size'}", MIN_SIZE, MAX_SIZE, "m")
+        check_vector(body.velocity, f"{where}.velocity", MAX_SPEED, "m/s")
+        within(body.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
+        if body.restitution is not None:
+            within(body.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
+    for index, obstacle in enumerate(scenario.obstacles):
+        where = f"static[{index}]"
+        for key, point in _points(obstacle.shape):
+            check_vector(point, f"{where}.{key}", MAX_COORDINATE, "m")
+        for size in _sizes(obstacle.shape):
+            within(size, f"{where}.size", MIN_SIZE, MAX_SIZE, "m")
+        if obstacle.restitution is not None:
+            within(obstacle.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
+    if s.mode == "exact":
+        _check_travel(scenario)
+
+
+def _closing(speeds: Sequence[float]) -> float:
+    """The fastest two bodies can close on each other: the sum of the two largest speeds."""
+    top = sorted(speeds, reverse=True)[:2]
+    return sum(top)
+
+
+def _reach(scenario: Scenario) -> float:
+    """How far bodies may close in one step in exact mode: ``MAX_TRAVEL_PER_SIZE`` times the
+    smallest sum of two bodies' sizes (radius, or half the shortest edge), the distance at which
+    time of impact must resolve a touch; a lone body against obstacles, its own size."""
+    sizes = sorted(_smallest_half_size(b.shape) for b in scenario.bodies)[:2]
+    return MAX_TRAVEL_PER_SIZE * sum(sizes)
+
+
+def _check_travel(scenario: Scenario) -> None:
+    """Exact mode: two bodies may close by at most ``_reach`` in one step, else time of impact
+    cannot resolve the touch (measured: it misses beyond ~1e7 sizes per step)."""
+    speeds = [b.velocity.length() for b in scenario.bodies]
+    travel = _closing(speeds) * scenario.settings.dt
+    if travel > _reach(scenario):
+        fastest = max(range(len(speeds)), key=speeds.__getitem__)
+        raise InvalidInputError(
+            f"body[{fastest}].velocity",
+            f"bodies close by {travel:.3g} m in a step of {scenario.settings.dt:g} s, more than "
+            f"{MAX_TRAVEL_PER_SIZE:g} times their sizes, beyond what exact mode resolves; use a smaller dt",
+            scenario.bodies[fastest].velocity.as_tuple(),
+        )
+
+
+class RangeGuard:
+    """Watches a run step by step: positions and speeds stay within ``MAX_RUN_COORDINATE`` and
+    ``MAX_RUN_SPEED`` (else :class:`OutOfRangeError`), and in exact mode a warning is given once
+    when bodies come to move too far per step for time of impact to resolve."""
+
+    def __init__(self, scenario: Scenario) -> None:
+        self.names = [b.name for b in scenario.bodies]
+        self.dt = scenario.settings.dt
+        self.exact = scenario.settings.mode == "exact"
+        self.reach = _reach(scenario)
+        self.warned = False
+
+    def check(
+        self, step: int, time: float, positions: Sequence[Vector3D], velocities: Sequence[Vector3D]
+    ) -> str | None:
+        """Raise when a body left the range; return a warning (once) when exact mode may miss."""
+        speeds = []
+        for name, x, v in zip(self.names, positions, velocities, strict=True):
+            if max(abs(x.x), abs(x.y), abs(x.z)) > MAX_RUN_COORDINATE:
+                raise OutOfRangeError(
+                    f"step {step} (t = {time:g} s): '{name}' reached position {_short(x)}, beyond the "
+                    f"{MAX_RUN_COORDINATE:g} m collisionlab simulates: the scenario's numbers are too large to simulate"
+                )
+            if max(abs(v.x), abs(v.y), abs(v.z)) > MAX_RUN_SPEED:
+                raise OutOfRangeError(
+                    f"step {step} (t = {time:g} s): '{name}' reached velocity {_short(v)}, beyond the "
+                    f"{MAX_RUN_SPEED:g} m/s collisionlab simulates: the scenario's numbers are too large to simulate "
+                    "(restitution above 1 adds energy at every collision)"
+                )
+            speeds.append(v.length())
+        return self._travel_warning(step, _closing(speeds)) if self.exact and not self.warned else None
+
+    def _travel_warning(self, step: int, closing: float) -> str | None:
+        """A warning (once) when bodies closing at ``closing`` m/s outrun time of impact."""
+        if closing * self.dt <= self.reach:
+            return None
+        self.warned = True
+        return (
+            f"from step {step} bodies close by {closing * self.dt:.3g} m per step, more than "
+            f"{MAX_TRAVEL_PER_SIZE:g} times the smallest body's size: time of impact may miss collisions; "
+            "use a smaller dt"
+        )
+
+    def check_arrays(self, step: int, time: float, positions: Any, velocities: Any) -> str | None:
+        """:meth:`check` on arrays ``(n, 3)`` in the order the bodies were given, with no Python
+        loop over the bodies (a NaN counts as out of range)."""
+        inside = (np.max(np.abs(positions), axis=1) <= MAX_RUN_COORDINATE) & (
+            np.max(np.abs(velocities), axis=1) <= MAX_RUN_SPEED
+        )
+        if not np.all(inside):
+            i = int(np.argmin(inside))
+            if np.all(np.isfinite(positions[i])) and np.all(np.isfinite(velocities[i])):
+                x, v = Vector3D(*positions[i].tolist()), Vector3D(*velocities[i].tolist())
+                self._one(i, step, time, x, v)  # raises, naming the position or the speed
+            raise OutOfRangeError(
+                f"step {step} (t = {time:g} s): '{self.names[i]}' reached a number that overflowed: the "
+                "scenario's numbers are too large to simulate"
+            )
+        if not self.exact or self.warned:
+            return None
+        speeds = np.sqrt(np.einsum("ij,ij->i", velocities, velocities))
+        return self._travel_warning(step, float(np.sort(speeds)[-2:].sum()))
+
+    def _one(self, i: int, step: int, time: float, x: Vector3D, v: Vector3D) -> None:
+        """:meth:`check` for body ``i`` alone (raises with its name)."""
+        names, self.names = self.names, [self.names[i]]
+        try:
+            self.check(step, time, [x], [v])
+        finally:
+            self.names = names
+
+    def overflowed(self, step: int, error: Exception) -> OutOfRangeError:
+        """The error for a number that overflowed during ``step`` (``error`` says which)."""
+        return OutOfRangeError(
+            f"step {step}: a number overflowed ({error}): the scenario's numbers are too large to simulate"
+        )
+
+
+def _short(v: Vector3D) -> str:
+    return "(" + ", ".join(f"{c:.3g}" for c in v) + ")"
+
+
+def is_overflow(error: Exception) -> bool:
+    """Whether an error raised during a step is a number that overflowed (inf or NaN)."""
+    if isinstance(error, ArithmeticError):
+        return True
+    got = getattr(error, "got", None)
+    return isinstance(error, InvalidInputError) and isinstance(got, float) and not math.isfinite(got)
