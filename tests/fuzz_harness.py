@@ -60,7 +60,7 @@ from collisionlab import (
 from collisionlab.cli.render import render_csv, render_json, render_table
 from collisionlab.errors import OutOfRangeError
 from collisionlab.scenario_file import ScenarioError, parse_scenario
-from collisionlab.world import simulate
+from collisionlab.world import InitialOverlapError, simulate
 from tests.cli_helpers import EXAMPLES, Result, run_cli, typed
 
 __all__ = ["FUZZ_SETTINGS", "SURFACES", "Outcome", "classify_api", "classify_cli", "main"]
@@ -255,7 +255,7 @@ def probe_scenario_data(data: dict[str, Any]) -> Outcome:
     try:
         steps = min(scenario.settings.steps, FUZZ_STEPS)
         record = simulate(scenario.with_settings(steps=steps))
-    except OutOfRangeError as error:
+    except (OutOfRangeError, InitialOverlapError) as error:  # both documented: exit 65
         return Outcome("error 65") if _one_line(str(error)) else Outcome("FAILURE", f"{error!r}")
     _strict_json(render_json(record))
     for text in (render_table(record, explain=True), render_csv(record)):

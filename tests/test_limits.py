@@ -118,8 +118,8 @@ def _misses(speed: float, radius: float, dt: float, tries: int = 20) -> int:
         a = Body("a", Sphere((-gap, 0, 0), radius), velocity=(speed, 0, 0))
         b = Body("b", Sphere((gap, offset, 0), radius), velocity=(-speed, 0, 0))
         scenario = Scenario(Settings(dt=dt, steps=1), (a, b))
+        object.__setattr__(scenario.settings, "mode", "exact")  # bypass the check: measure
         world = World(scenario)
-        object.__setattr__(world.scenario.settings, "mode", "exact")  # bypass the check: measure
         world.step()
         missed += not world.record.events
     return missed

@@ -19,10 +19,11 @@ coordinates (any point)     ``|x| <= 1e9`` m     ``ulp(1e9) ~ 1e-7`` m: ``CONTAC
 radius, box edge            ``1e-6 .. 1e9`` m    1000x the contact tolerances at the small end
 speed (each component)      ``<= 1e9`` m/s       ``m v^2`` stays below 1e50 J
 gravity (each component)    ``<= 1e9`` m/s^2
-mass                        ``1e-30 .. 1e30`` kg
+mass                        ``1e-30 .. 1e30`` kg  or ``inf``: a kinematic body
 dt                          ``1e-9 .. 1e6`` s
-steps x moving bodies       ``<= 2e6``           a run keeps every frame: 0.40-0.46 kB per
-                                                 body and step (measured), so at most ~1 GB
+kept frames x moving bodies ``<= 2e6``           a run keeps a frame every ``every`` steps:
+                                                 0.40-0.46 kB per body and frame (measured),
+                                                 so at most ~1 GB
 restitution                 ``0 .. 10``
 exact mode: travel per      ``<= 1e6`` x the     time of impact resolves a touch to about
 step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the distance
@@ -195,14 +196,14 @@ def check_frames(steps: int, every: int, bodies: int, field: str = "steps") -> N
     """Refuse a run whose kept frames (one every ``every`` steps, and the first and last) times its
     ``bodies`` exceed ``MAX_BODY_STEPS``: it would not fit in memory.
 
-    >>> check_frames(1_000_000, 1000, 2)   # 1,001 frames of 2 bodies
+    >>> check_frames(1_000_000, 1000, 2)   # 1,000 frames of 2 bodies (and the first)
     >>> try:
     ...     check_frames(2_000_000, 1, 5)
     ... except InvalidInputError as error:
-    ...     print(error.field, "2,000,001 frames of 5 bodies" in str(error))
+    ...     print(error.field, "2,000,000 frames of 5 bodies" in str(error))
     steps True
     """
-    frames = steps // every + 1 + (1 if steps % every else 0)
+    frames = steps // every + (1 if steps % every else 0)  # after the first: one per `every` and the last
     if frames * bodies > MAX_BODY_STEPS:
         raise InvalidInputError(
             field,
@@ -227,7 +228,8 @@ def check_scenario(scenario: Scenario) -> None:
         for size in _sizes(body.shape):
             within(size, f"{where}.{'radius' if hasattr(body.shape, 'radius') else 'size'}", MIN_SIZE, MAX_SIZE, "m")
         check_vector(body.velocity, f"{where}.velocity", MAX_SPEED, "m/s")
-        within(body.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
+        if body.mass != math.inf:  # infinite: a kinematic body
+            within(body.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
         if body.restitution is not None:
             within(body.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
     for index, obstacle in enumerate(scenario.obstacles):
