@@ -13,7 +13,6 @@ and ``s_b`` ``(m, 3)`` (a point and the unit normal, or the box's two corners) a
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +22,7 @@ from ..model import Scenario
 from ..shapes import AABB, Circle
 from . import step_kernels as sk
 
-__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "statics_of", "walls_of_box"]
+__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "statics_of"]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -84,8 +83,8 @@ def bodies_of(scenario: Scenario) -> BodyArrays:
     return BodyArrays(kind, pos, vel, ext, ima, eb, np.arange(n, dtype=np.int64))
 
 
-def statics_of(scenario: Scenario, extra: StaticArrays | None = None) -> StaticArrays:
-    """The scenario's static obstacles as arrays (then ``extra``, e.g. box walls)."""
+def statics_of(scenario: Scenario) -> StaticArrays:
+    """The scenario's static obstacles as arrays, in the order given."""
     m = len(scenario.obstacles)
     kind = np.zeros(m, np.int64)
     a = np.zeros((m, 3))
@@ -103,33 +102,4 @@ def statics_of(scenario: Scenario, extra: StaticArrays | None = None) -> StaticA
             b[s] = shape.unit_normal.as_tuple()
         if obstacle.restitution is not None:
             e[s] = obstacle.restitution
-    statics = StaticArrays(kind, a, b, e)
-    if extra is None:
-        return statics
-    return StaticArrays(
-        np.concatenate([kind, extra.kind]),
-        np.concatenate([a, extra.a]),
-        np.concatenate([b, extra.b]),
-        np.concatenate([e, extra.e]),
-    )
-
-
-def walls_of_box(lo: Sequence[float], hi: Sequence[float], dims: int) -> StaticArrays:
-    """The ``2 * dims`` one-sided walls of the box ``lo <= x <= hi``, inside facing in."""
-    kinds: list[int] = []
-    points: list[tuple[float, ...]] = []
-    normals: list[tuple[float, ...]] = []
-    for k in range(dims):
-        axis = tuple(1.0 if i == k else 0.0 for i in range(3))
-        low = tuple(float(lo[k]) if i == k else 0.0 for i in range(3))
-        high = tuple(float(hi[k]) if i == k else 0.0 for i in range(3))
-        kinds += [sk.STATIC_WALL, sk.STATIC_WALL]
-        points += [low, high]
-        normals += [axis, tuple(-c for c in axis)]
-    count = len(kinds)
-    return StaticArrays(
-        np.array(kinds, np.int64),
-        np.array(points, np.float64).reshape(count, 3),
-        np.array(normals, np.float64).reshape(count, 3),
-        np.full(count, math.nan),
-    )
+    return StaticArrays(kind, a, b, e)

@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import InvalidInputError
 from ..numba_cache import use_user_cache
 
-__all__ = ["BACKENDS", "engine_kernels", "is_compiled", "pick_backend", "warm_up"]
+__all__ = ["BACKENDS", "engine_kernels", "pick_backend", "warm_up"]
 
 
 use_user_cache()  # numba reads NUMBA_CACHE_DIR once, when it is first imported
@@ -46,13 +46,6 @@ def engine_kernels(backend: str) -> ModuleType:
     from ..engine import compiled
 
     return compiled.kernels()
-
-
-def is_compiled() -> bool:
-    """Whether the compiled kernels are already in numba's on-disk cache."""
-    from ..engine import compiled
-
-    return compiled.is_cached()
 
 
 def warm_up() -> bool:
