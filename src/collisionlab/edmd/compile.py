@@ -15,7 +15,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, TypeVar, cast
 
-import numba
+from ..numba_cache import use_user_cache
+
+use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
+
+import numba  # noqa: E402  (after the cache folder is set)
 
 __all__ = ["jit", "jit_inline"]
 
