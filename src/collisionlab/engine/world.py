@@ -172,8 +172,10 @@ class World:
         return Vector3D(*np.sum(v * m[:, None], axis=0).tolist())
 
     def frame(self) -> Frame:
-        positions = self.position_array.tolist()
-        velocities = self.velocity_array.tolist()
+        return self._frame(self.position_array, self.velocity_array)
+
+    def _frame(self, position_array: Any, velocity_array: Any) -> Frame:
+        positions, velocities = position_array.tolist(), velocity_array.tolist()
         return Frame(
             self.step_index,
             self.time,
@@ -373,14 +375,15 @@ class World:
                 if not limits.is_overflow(error):
                     raise
                 raise guard.overflowed(self.step_index, error) from None
-            warning = guard.check_arrays(self.step_index, self.time, self.position_array, self.velocity_array)
+            positions, velocities = self.position_array, self.velocity_array  # once, for the guard and the frame
+            warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
             if warning:
                 self.record.warnings.append(warning)
             if self._compiled and self._exact is None:
                 took = time.perf_counter() - started
                 chunk = max(1, min(4 * chunk, int(count * _CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
             if self.step_index % every == 0 or self.step_index == total:
-                self.record.frames.append(self.frame())
+                self.record.frames.append(self._frame(positions, velocities))
             if progress is not None:
                 progress(self.step_index, total)
         return self.record
