@@ -200,3 +200,9 @@ def test_the_cli_refuses_a_file_whose_bodies_start_overlapping(tmp_path) -> None
     path.write_text("[simulation]\nallow_initial_overlap = true\n" + text)
     result = run_cli(["run", str(path), "--steps", "2"])
     assert result.status == 0 and "overlapped at the start" in result.out
+
+
+def test_allow_initial_overlap_must_be_true_or_false() -> None:
+    text = '[simulation]\nallow_initial_overlap = "yes"\n[[body]]\nshape = "circle"\nposition = [0, 0]\nradius = 1\n'
+    with pytest.raises(ScenarioError, match=r"^f\.toml: simulation\.allow_initial_overlap: must be true or false"):
+        parse_scenario(tomllib.loads(text), "f.toml")
