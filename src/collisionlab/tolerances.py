@@ -16,6 +16,7 @@ __all__ = [
     "PICTURE_MIN_SPAN",
     "REST_SPEED",
     "SOLVER_MARGIN",
+    "TOI_GAP",
 ]
 
 #: Dimensionless. Three plane points are collinear when the sine of the angle between the two
@@ -70,3 +71,10 @@ PICTURE_MIN_SPAN: float = 1e-6
 #: round differently from the narrow phase's distance; it is widened by this relative amount so
 #: that it never rejects a pair the exact test would accept (it only lets a few more through).
 BROADPHASE_WIDEN: float = 1e-12
+
+#: Metres. The exact stepper's time of impact (conservative advancement) stops when the two
+#: shapes are this close: far below ``CONTACT_SLOP`` (so an impact is resolved before any push-apart
+#: would be needed) and above the rounding of positions in scenes of up to about a kilometre
+#: (1e-13 m at 1e3 m). Past that scale the iteration's cap ends it a little early instead, which
+#: is conservative: the impact is resolved at a gap below ``CONTACT_MARGIN``, never after it.
+TOI_GAP: float = 1e-12

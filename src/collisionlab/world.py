@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from .engine.exact import MAX_IMPACTS_PER_STEP, RELAX_PASSES
+from .engine.exact_kernels import MAX_IMPACTS_PER_STEP, RELAX_IMPULSES
 from .engine.world import InitialOverlapError, World, simulate
 
-__all__ = ["MAX_IMPACTS_PER_STEP", "RELAX_PASSES", "InitialOverlapError", "World", "simulate"]
+__all__ = ["MAX_IMPACTS_PER_STEP", "RELAX_IMPULSES", "InitialOverlapError", "World", "simulate"]

@@ -22,7 +22,7 @@ from typing import Any
 
 from ..numba_cache import use_user_cache
 
-__all__ = ["is_cached", "kernels"]
+__all__ = ["exact_kernels", "is_cached", "kernels"]
 
 _HERE = Path(__file__).resolve().parent
 _loaded: dict[str, types.ModuleType] = {}
@@ -61,27 +61,48 @@ def _cache_files(stem: str) -> list[Path]:
     return [f for folder in folders if folder.exists() for f in folder.glob(f"**/{stem}.*.nb[ic]")]
 
 
+#: Each kernel file and the files whose code its machine code contains.
+_CALLS = {"step_kernels": ("geometry_kernels",), "exact_kernels": ("geometry_kernels", "step_kernels")}
+
+
 def _forget_stale() -> None:
-    """Remove the stepper's cached code if ``geometry_kernels.py`` is newer than it."""
-    geometry = (_HERE / "geometry_kernels.py").stat().st_mtime
-    stepper = _cache_files("step_kernels")
-    if stepper and min(f.stat().st_mtime for f in stepper) < geometry:
-        for f in stepper:
-            f.unlink(missing_ok=True)
+    """Remove a kernel file's cached code if a file it calls is newer than it."""
+    for stem, callees in _CALLS.items():
+        newest = max((_HERE / f"{callee}.py").stat().st_mtime for callee in callees)
+        cached = _cache_files(stem)
+        if cached and min(f.stat().st_mtime for f in cached) < newest:
+            for f in cached:
+                f.unlink(missing_ok=True)
 
 
-def kernels() -> types.ModuleType:
-    """The compiled :mod:`~collisionlab.engine.step_kernels` (and, inside it, geometry kernels)."""
+def _load() -> None:
     if "step" not in _loaded:
         use_user_cache()
         _forget_stale()
         geometry = _compile_module("geometry_kernels", {})
         _loaded["step"] = _compile_module("step_kernels", {"_GEOMETRY": geometry})
+        _loaded["geometry"] = geometry
+
+
+def kernels() -> types.ModuleType:
+    """The compiled :mod:`~collisionlab.engine.step_kernels` (and, inside it, geometry kernels)."""
+    _load()
     return _loaded["step"]
 
 
-def is_cached() -> bool:
+def exact_kernels() -> types.ModuleType:
+    """The compiled :mod:`~collisionlab.engine.exact_kernels` (calling the compiled step kernels)."""
+    _load()
+    if "exact" not in _loaded:
+        _loaded["exact"] = _compile_module(
+            "exact_kernels", {"_GEOMETRY": _loaded["geometry"], "_STEP": _loaded["step"]}
+        )
+    return _loaded["exact"]
+
+
+def is_cached(exact: bool = False) -> bool:
     """Whether numba's on-disk cache seems to hold the stepper already (then a run loads it in
     well under a second instead of compiling); a guess from the cache's index file."""
     use_user_cache()
-    return any(f.name.startswith("step_kernels.run_steps-") for f in _cache_files("step_kernels"))
+    stem, entry = ("exact_kernels", "run_exact_steps") if exact else ("step_kernels", "run_steps")
+    return any(f.name.startswith(f"{stem}.{entry}-") for f in _cache_files(stem))

@@ -334,6 +334,33 @@ def _scatter(src: Any, dst: Any, dest: Any) -> None:
         dst[dest[i]] = src[i]
 
 
+def _store_in_cell_order(
+    kind: Any, pos: Any, vel: Any, ext: Any, ima: Any, eb: Any, ids: Any, scratch_f: Any, scratch_i: Any, dest: Any
+) -> None:
+    """Move every body to its slot ``dest[i]`` (through the scratch arrays ``(n, 11)`` and
+    ``(n, 2)``), so that the pair search reads memory in sequence (Ericson 7.1.3)."""
+    n = pos.shape[0]
+    for i in range(n):
+        d = dest[i]
+        for k in range(3):
+            scratch_f[d, k] = pos[i, k]
+            scratch_f[d, 3 + k] = vel[i, k]
+            scratch_f[d, 6 + k] = ext[i, k]
+        scratch_f[d, 9] = ima[i]
+        scratch_f[d, 10] = eb[i]
+        scratch_i[d, 0] = kind[i]
+        scratch_i[d, 1] = ids[i]
+    for i in range(n):
+        for k in range(3):
+            pos[i, k] = scratch_f[i, k]
+            vel[i, k] = scratch_f[i, 3 + k]
+            ext[i, k] = scratch_f[i, 6 + k]
+        ima[i] = scratch_f[i, 9]
+        eb[i] = scratch_f[i, 10]
+        kind[i] = scratch_i[i, 0]
+        ids[i] = scratch_i[i, 1]
+
+
 # --- phase 3: contacts --------------------------------------------------------------------------
 def _lex_cmp(pos: Any, i: int, j: int) -> int:
     """-1, 0 or 1 as ``pos[i]`` is lexicographically before, equal to or after ``pos[j]``."""
@@ -852,25 +879,7 @@ def run_steps(
         # Sort the state by cell (Ericson 7.1.3): the pair search then reads memory in sequence.
         h = _grid_geometry(pos, dims, min_cell, max_cells, lo, shape)
         _counting_sort(pos, dims, lo, h, shape, cell_start, dest)
-        for i in range(n):
-            d = dest[i]
-            for k in range(3):
-                scratch_f[d, k] = pos[i, k]
-                scratch_f[d, 3 + k] = vel[i, k]
-                scratch_f[d, 6 + k] = ext[i, k]
-            scratch_f[d, 9] = ima[i]
-            scratch_f[d, 10] = eb[i]
-            scratch_i[d, 0] = kind[i]
-            scratch_i[d, 1] = ids[i]
-        for i in range(n):
-            for k in range(3):
-                pos[i, k] = scratch_f[i, k]
-                vel[i, k] = scratch_f[i, 3 + k]
-                ext[i, k] = scratch_f[i, 6 + k]
-            ima[i] = scratch_f[i, 9]
-            eb[i] = scratch_f[i, 10]
-            kind[i] = scratch_i[i, 0]
-            ids[i] = scratch_i[i, 1]
+        _store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
         count = _find_contacts(
             kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, contact_margin
         )

@@ -5,8 +5,8 @@ Two steppers act on the same state:
 * ``mode = "euler"`` (the lab's part VI): :func:`~collisionlab.engine.step_kernels.run_steps`,
   Forward Euler then detect, resolve and push apart, in the order its module documents. It runs
   as Python for small worlds and compiled by numba for large ones (same source, same numbers).
-* ``mode = "exact"``: :class:`~collisionlab.engine.exact.ExactStepper`, times of impact within
-  each step, nothing tunnels.
+* ``mode = "exact"``: :func:`~collisionlab.engine.exact_kernels.run_exact_steps`, exact flight
+  between impacts found by time of impact, earliest first: nothing tunnels. The same two forms.
 
 What happens is recorded in one :class:`~collisionlab.record.RunRecord`: frames every ``every``
 steps (never every step unless asked, so memory follows what is kept, not the run's length),
@@ -31,8 +31,9 @@ from ..errors import InvalidInputError
 from ..model import Scenario
 from ..record import BodyState, CollisionEvent, Frame, RunRecord, SkippedContact
 from ..vector import Vector3D
-from . import step_kernels
-from .exact import ExactStepper
+from . import exact_kernels, step_kernels
+from .exact_kernels import MAX_IMPACTS_PER_STEP
+from .exact_stepper import ExactStepper
 from .params import COMPILE_ABOVE, WorldParams
 from .state import bodies_of, statics_of
 from .stepper import EulerStepper
@@ -85,7 +86,7 @@ class World:
         self._mass_array = np.asarray(self._masses, dtype=np.float64)
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
-        self._kernels: Any = None
+        self._kernels: dict[bool, Any] = {}
         self.record = RunRecord(
             title=scenario.title,
             mode=settings.mode,
@@ -104,13 +105,15 @@ class World:
         if warning:
             self.record.warnings.append(warning)
         n = self._bodies.n
-        self._stepper = EulerStepper(self._bodies, self._statics, self.dims, self._gravity, self.params)
+        self._exact = settings.mode == "exact"
+        stepper = ExactStepper if self._exact else EulerStepper
+        self._stepper = stepper(self._bodies, self._statics, self.dims, self._gravity, self.params)
+        self._impact_limit_warned = False
         self._check_initial_overlap()
         # Per body in the order given (storage is still that order here).
         kinds, extents = self._bodies.kind, self._bodies.ext
         self._thickness = np.array([_thickness(int(k), e, self.dims) for k, e in zip(kinds, extents, strict=True)])
         self._thinnest = float(self._thickness.min())
-        self._exact = ExactStepper(scenario, self.record) if settings.mode == "exact" else None
         compiled = self.params.compiled
         self._compiled = n * settings.steps > COMPILE_ABOVE if compiled is None else compiled
 
@@ -188,7 +191,7 @@ class World:
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
         large = self._bodies.n * max(1, self._statics.m) > COMPILE_ABOVE // 100
-        return self._stepper.near(self._compiled_kernels() if large else step_kernels, margin)
+        return self._stepper.near(self._compiled_kernels(exact=False) if large else step_kernels, margin)
 
     def _pair_names(self, a: int, b: int) -> tuple[str, str]:
         return (self._static_names[-1 - a] if a < 0 else self._names[a], self._names[b])
@@ -255,20 +258,21 @@ class World:
         self._tunnel_warned = True
 
     # --- stepping -------------------------------------------------------------------------------
-    def _compiled_kernels(self) -> Any:
+    def _compiled_kernels(self, exact: bool = True) -> Any:
+        """The compiled step kernels, or (``exact`` in exact mode) the compiled exact kernels."""
         from . import compiled
 
-        if self._kernels is None:
-            if not compiled.is_cached() and self._notify is not None:
+        exact = exact and self._exact
+        if exact not in self._kernels:
+            if not compiled.is_cached(exact) and self._notify is not None:
                 self._notify("compiling the engine's kernels (once per machine; about a minute)...")
-            self._kernels = compiled.kernels()
-        return self._kernels
+            self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
+        return self._kernels[exact]
 
     def step(self, steps: int = 1) -> None:
         """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
-        if self._exact is not None:
-            for _ in range(steps):
-                self._step_exact()
+        if self._exact:
+            self._step_exact(steps)
         else:
             self._step_euler(steps)
         ledger = self.record.ledger
@@ -276,19 +280,25 @@ class World:
         ledger.potential_end = self.potential_energy()
         ledger.momentum_end = self.momentum()
 
-    def _step_exact(self) -> None:
-        exact = self._exact
-        assert exact is not None
-        exact.step()
-        self.step_index = exact.step_index
-        self.time = exact.time
-        self._bodies.pos[:] = [x.as_tuple() for x in exact.positions]
-        self._bodies.vel[:] = [v.as_tuple() for v in exact.velocities]
+    def _step_exact(self, steps: int) -> None:
+        stepper = self._stepper
+        assert isinstance(stepper, ExactStepper)
+        limited = int(stepper.status[0])
+        self._step_euler(steps, self._compiled_kernels() if self._compiled else exact_kernels)
+        if int(stepper.status[0]) > limited and not self._impact_limit_warned:
+            self._impact_limit_warned = True
+            self.record.warnings.append(
+                f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index}: the rest of that step was "
+                "integrated without them (said once; later steps may do the same)"
+            )
 
-    def _step_euler(self, steps: int) -> None:
-        self._check_tunnelling()
+    def _step_euler(self, steps: int, kernels: Any = None) -> None:
+        """Advance ``steps`` steps with ``kernels`` (default: the Forward Euler ones) and take the
+        ledger's sums and the events."""
         settings = self.scenario.settings
-        kernels = self._compiled_kernels() if self._compiled else step_kernels
+        if kernels is None:
+            self._check_tunnelling()
+            kernels = self._compiled_kernels() if self._compiled else step_kernels
         self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
         self.step_index += steps
         self.time = self.step_index * settings.dt
@@ -379,7 +389,7 @@ class World:
             warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
             if warning:
                 self.record.warnings.append(warning)
-            if self._compiled and self._exact is None:
+            if self._compiled:
                 took = time.perf_counter() - started
                 chunk = max(1, min(4 * chunk, int(count * _CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
             if self.step_index % every == 0 or self.step_index == total:

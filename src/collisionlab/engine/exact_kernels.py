@@ -1,0 +1,1006 @@
+"""The exact stepper over arrays, written once: Python for small worlds, compiled by numba
+(:mod:`collisionlab.engine.compiled`) for large ones, the same source both ways.
+
+Between impacts every body flies exactly, ``x(t) = x + v t + a t^2 / 2`` (a parabola under
+gravity, a line without), so an impact is found at its time, never after it, and nothing tunnels.
+One step of ``dt``, in this fixed order:
+
+1. **Candidates.** The state is sorted by cell (as the Forward Euler stepper does) and every pair
+   that can meet before the step ends is listed: pairs closer than ``contact_margin + 2 s``,
+   where ``s = v_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left.
+2. **Resting contacts** (with gravity): a pair in contact (within ``contact_margin``) whose
+   normal speed is below ``rest_speed`` and whose accelerations press it together rests: a slow
+   approach or lift-off is stopped (no event), and the support cancels the pressing part of the
+   acceleration, shared as an impulse would be: a body already on a support passes the part
+   along that support's normal on to it, so stacks settle from the bottom up (Gauss-Seidel on
+   accelerations). A body on a curved support (two balls; a ball on a box's edge or corner, radius
+   ``R``) stays only while ``v_t^2 / R`` is below the pressing acceleration. Resting pairs are left
+   out of the search for impacts.
+3. **Times of impact** of every other candidate pair, by conservative advancement along the
+   separating axis (Mirtich 1996; as Box2D's ``b2TimeOfImpact``): the gap along the current
+   normal ``n`` is ``d + (w.n) t + (alpha.n) t^2 / 2`` (``w``, ``alpha``: relative velocity and
+   acceleration) and the true distance is never below it, so its first root is never after the
+   impact; advance to it and repeat until the gap is below ``TOI_GAP``. A gap that never closes
+   along ``n`` proves there is no impact. One kernel for every pair of shapes: the separations of
+   :mod:`collisionlab.engine.geometry_kernels`.
+4. **Impacts, earliest first**, from a binary heap with lazy invalidation (each pair's prediction
+   carries a version; a kicked body's pairs get new ones): the two bodies are brought to the
+   impact's time, the impulse is applied (``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, lab eqs. 12,
+   15, 24; ``e = 0`` below ``rest_speed``), then the contacts it touches are settled (sequential
+   impulses through every pair in contact that now approaches: a row of touching balls passes the
+   impact along), and the kicked bodies' pairs are predicted again. A kicked body that rested is
+   looked at again (it may lift off); if a kick makes a body faster than the candidates allowed
+   for, the step is cut there and the candidates are listed again.
+5. **End of the step**: every body is brought to its end, overlaps left by rounding are pushed
+   apart to ``slop`` (as in Forward Euler) and the pairs in contact are remembered, so a pair is
+   reported once per impact.
+
+An impact of a pair already in contact is not a new event unless it arrives faster than
+``rest_speed``. Lab eq. numbers refer to the lab's text; Ericson is *Real-Time Collision
+Detection*; B. Mirtich, "Impulse-based dynamic simulation of rigid body systems" (1996).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
+    gk: Any = globals()["_GEOMETRY"]
+    sk: Any = globals()["_STEP"]
+else:
+    from . import geometry_kernels as gk
+    from . import step_kernels as sk
+
+__all__ = ["MAX_IMPACTS_PER_STEP", "RELAX_IMPULSES", "STATUS_SIZE", "run_exact_steps"]
+
+#: The most impacts resolved within one step; past it the step ends without the rest (a guard
+#: against an endless run of impacts; the world warns, ``status[0]`` counts such steps).
+MAX_IMPACTS_PER_STEP = 100_000
+#: The most iterations of conservative advancement for one prediction; the time reached is then
+#: used (it is never after the impact, so nothing is missed: the pair is looked at again there).
+TOI_ITERATIONS = 64
+#: The most impulses that settle the contacts one impact touches (a row of k balls needs k).
+RELAX_IMPULSES = 4096
+#: At most this many support normals are kept per body (a floor and two walls).
+MAX_SUPPORTS = 3
+#: Counters returned to the world: steps that hit MAX_IMPACTS_PER_STEP, impacts resolved, times
+#: the candidates had to be listed again within a step.
+STATUS_SIZE = 3
+
+#: Helpers the compiled form inlines into their callers.
+INLINE = ("_first_root", "_response")
+
+
+# --- motion and time of impact ------------------------------------------------------------------
+def _first_root(c0: float, c1: float, c2: float, limit: float) -> float:
+    """The first ``t`` in ``(0, limit]`` where ``c0 + c1 t + c2 t^2`` (with ``c0 > 0``) reaches 0,
+    or ``inf`` (numerically stable roots: Press et al., *Numerical Recipes*, 5.6).
+
+    >>> _first_root(1.0, -2.0, 0.0, 10.0)   # 1 - 2t = 0
+    0.5
+    >>> _first_root(1.0, 0.0, -1.0, 10.0)   # 1 - t^2 = 0
+    1.0
+    >>> _first_root(1.0, 1.0, 1.0, 10.0)    # never below 1
+    inf
+    """
+    if c2 == 0.0:
+        if c1 < 0.0:
+            t = -c0 / c1
+            return t if t <= limit else math.inf
+        return math.inf
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return math.inf
+    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+    r1 = q / c2
+    r2 = c0 / q
+    best = math.inf
+    if r1 > 0.0:
+        best = r1
+    if 0.0 < r2 < best:
+        best = r2
+    return best if best <= limit else math.inf
+
+
+def _ball_ball_root(p2: Any, v2: Any, reach: float, limit: float) -> float:
+    """The first ``t`` in ``(0, limit]`` with ``|p + w t| = reach`` for two balls apart
+    (``p``, ``w``: rows 1 minus 0 of ``p2`` and ``v2``), or ``inf``.
+
+    >>> p = np.array([[0.0, 0, 0], [3.0, 1, 0]]); w = np.array([[1.0, 0, 0], [0.0, 0, 0]])
+    >>> _ball_ball_root(p, w, 1.0, 10.0)   # a graze: (3 - t)^2 + 1 = 1 at t = 3 only
+    3.0
+    """
+    px = p2[1, 0] - p2[0, 0]
+    py = p2[1, 1] - p2[0, 1]
+    pz = p2[1, 2] - p2[0, 2]
+    wx = v2[1, 0] - v2[0, 0]
+    wy = v2[1, 1] - v2[0, 1]
+    wz = v2[1, 2] - v2[0, 2]
+    c2 = wx * wx + wy * wy + wz * wz
+    c1 = 2.0 * (px * wx + py * wy + pz * wz)
+    c0 = px * px + py * py + pz * pz - reach * reach
+    if c1 >= 0.0 or c0 <= 0.0:
+        return math.inf
+    return _first_root(c0, c1, c2, limit)
+
+
+def _advance(i: int, t: float, pos: Any, vel: Any, acc: Any, tau: Any, ima: Any, gravity: Any, ledger: Any) -> None:
+    """Bring body ``i`` from its own time ``tau[i]`` to ``t`` exactly. The energy the flight
+    changes (kinetic plus ``-m g.x``: zero in free flight, the work of a support otherwise) goes to
+    ``ledger[0]``: ``m [v.(a - g) d + (a.a - g.a) d^2 / 2]``."""
+    d = t - tau[i]
+    if d <= 0.0:
+        return
+    if ima[i] > 0.0:
+        va = 0.0
+        aa = 0.0
+        for k in range(3):
+            va += vel[i, k] * (acc[i, k] - gravity[k])
+            aa += acc[i, k] * (acc[i, k] - gravity[k])
+        ledger[0] += (va * d + 0.5 * aa * d * d) / ima[i]
+    for k in range(3):
+        pos[i, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
+        vel[i, k] = vel[i, k] + acc[i, k] * d
+    tau[i] = t
+
+
+def _separation_at(
+    kind: Any,
+    pos: Any,
+    vel: Any,
+    acc: Any,
+    tau: Any,
+    ext: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    a: int,
+    b: int,
+    t: float,
+    k2: Any,
+    p2: Any,
+    v2: Any,
+    e2: Any,
+) -> Any:
+    """The separation of pair ``(a, b)`` at time ``t`` (each body where its flight puts it then,
+    the state untouched); rows 0 and 1 of ``v2`` get their velocities then (0 for a static)."""
+    for r in range(2):
+        i = a if r == 0 else b
+        if i < 0:
+            for k in range(3):
+                p2[r, k] = 0.0
+                v2[r, k] = 0.0
+                e2[r, k] = 0.0
+            k2[r] = 0
+            continue
+        d = t - tau[i]
+        k2[r] = kind[i]
+        for k in range(3):
+            p2[r, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
+            v2[r, k] = vel[i, k] + acc[i, k] * d
+            e2[r, k] = ext[i, k]
+    if a >= 0:
+        return sk._body_separation(k2, p2, e2, 0, 1)
+    return sk._static_separation(s_kind, s_a, s_b, -1 - a, k2, p2, e2, 1)
+
+
+def _time_of_impact(
+    kind: Any,
+    pos: Any,
+    vel: Any,
+    acc: Any,
+    tau: Any,
+    ext: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    a: int,
+    b: int,
+    t0: float,
+    t_end: float,
+    k2: Any,
+    p2: Any,
+    v2: Any,
+    e2: Any,
+    gap: float,
+) -> float:
+    """The time in ``[t0, t_end)`` when pair ``(a, b)`` first comes within ``gap`` while
+    approaching, or ``inf`` (conservative advancement, the module docstring's phase 3). A pair in
+    contact and separating is followed until its gap along the normal closes again (a slow hop
+    under gravity), once."""
+    t = t0
+    jumped = False
+    for _ in range(TOI_ITERATIONS):
+        sep = _separation_at(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, k2, p2, v2, e2)
+        nx = sep[1]
+        ny = sep[2]
+        nz = sep[3]
+        s1 = (v2[1, 0] - v2[0, 0]) * nx + (v2[1, 1] - v2[0, 1]) * ny + (v2[1, 2] - v2[0, 2]) * nz
+        ax = acc[b, 0] - (acc[a, 0] if a >= 0 else 0.0)
+        ay = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
+        az = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
+        s2 = 0.5 * (ax * nx + ay * ny + az * nz)
+        if sep[0] <= gap:
+            if s1 < 0.0 or (s1 == 0.0 and s2 < 0.0):
+                return t
+            if jumped or s2 >= 0.0:
+                return math.inf
+            t += -s1 / s2  # when the gap along n closes again: never after the true return
+            jumped = True
+            if t >= t_end:
+                return math.inf
+            continue
+        if (
+            s2 == 0.0
+            and ax == 0.0
+            and ay == 0.0
+            and az == 0.0
+            and a >= 0
+            and k2[0] <= sk.BALL_3D
+            and k2[1] <= sk.BALL_3D
+        ):
+            # Two balls in straight flight: |p + w t| = r_a + r_b in closed form (Ericson 4.4.3),
+            # exact also for a graze, which the iteration would only approach.
+            step = _ball_ball_root(p2, v2, e2[0, 0] + e2[1, 0], t_end - t)
+        else:
+            step = _first_root(sep[0], s1, s2, t_end - t)
+        if step == math.inf:
+            return math.inf
+        t += step
+        if t >= t_end:
+            return math.inf
+    return t
+
+
+# --- impulses -----------------------------------------------------------------------------------
+def _response(i: int, dx: float, dy: float, dz: float, ima: Any, sup: Any, nsup: Any) -> Any:
+    """How body ``i`` answers a unit impulse along ``d``: a body resting on supports cannot be
+    pushed into them, so the part along a support's normal goes to the support. Returns the
+    direction its velocity changes (per unit impulse, times its mass) and its inverse mass along
+    ``d``: ``(1 - (s.d)^2) / m`` on one support ``s``, ``1/m`` free."""
+    mx = dx
+    my = dy
+    mz = dz
+    for s in range(nsup[i]):
+        into = mx * sup[i, s, 0] + my * sup[i, s, 1] + mz * sup[i, s, 2]
+        if into < 0.0:
+            mx -= sup[i, s, 0] * into
+            my -= sup[i, s, 1] * into
+            mz -= sup[i, s, 2] * into
+    return mx, my, mz, (mx * dx + my * dy + mz * dz) * ima[i]
+
+
+def _kick(
+    a: int,
+    b: int,
+    nx: float,
+    ny: float,
+    nz: float,
+    vn: float,
+    e: float,
+    vel: Any,
+    ima: Any,
+    sup: Any,
+    nsup: Any,
+    ledger: Any,
+    impact: bool,
+) -> float:
+    """Apply ``j = -(1 + e) v_n / (1/m_a + 1/m_b)`` along ``n`` (A gets minus it), each body
+    answering through its supports (:func:`_response`). The kinetic energy it changes goes to
+    ``ledger[1]``; an impact (not a resting contact's stop) also adds its predicted loss
+    ``(1 - e^2) mu v_n^2 / 2`` to ``ledger[3]`` and counts in ``ledger[5]`` or ``ledger[6]``.
+    Returns ``j`` (0 when neither body can move)."""
+    ax = ay = az = 0.0
+    inv_a = 0.0
+    if a >= 0 and ima[a] > 0.0:
+        ax, ay, az, inv_a = _response(a, -nx, -ny, -nz, ima, sup, nsup)
+    bx, by, bz, inv_b = _response(b, nx, ny, nz, ima, sup, nsup) if ima[b] > 0.0 else (0.0, 0.0, 0.0, 0.0)
+    inv_sum = inv_a + inv_b
+    if inv_sum <= 0.0:
+        return 0.0
+    j = gk.impulse_magnitude(vn, inv_sum, e)
+    kinetic = 0.0
+    if inv_a > 0.0:
+        before = vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2
+        vel[a, 0] += ax * j * ima[a]
+        vel[a, 1] += ay * j * ima[a]
+        vel[a, 2] += az * j * ima[a]
+        kinetic += 0.5 * (vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2 - before) / ima[a]
+    if inv_b > 0.0:
+        before = vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2
+        vel[b, 0] += bx * j * ima[b]
+        vel[b, 1] += by * j * ima[b]
+        vel[b, 2] += bz * j * ima[b]
+        kinetic += 0.5 * (vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2 - before) / ima[b]
+    ledger[1] += kinetic
+    if impact:
+        ledger[3] -= 0.5 * (1.0 - e * e) * vn * vn / inv_sum
+        if a >= 0:
+            ledger[5] += 1.0
+        else:
+            ledger[6] += 1.0
+    return float(j)
+
+
+def _curvature(kind: Any, ext: Any, s_kind: Any, a: int, b: int, nx: float, ny: float, nz: float) -> float:
+    """Radius of curvature of the surface pair ``(a, b)`` slides on (the Minkowski sum of the two
+    shapes): ``r_a + r_b`` for two balls, the ball's radius on a box's edge or corner (a normal off
+    the axes), ``inf`` when flat (a line, a plane, a wall, a box face, two boxes)."""
+    ball_a = a >= 0 and kind[a] <= sk.BALL_3D
+    ball_b = kind[b] <= sk.BALL_3D
+    if ball_a and ball_b:
+        return float(ext[a, 0] + ext[b, 0])
+    if not ball_a and not ball_b:
+        return math.inf
+    box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == sk.STATIC_BOX)
+    if not (box_a or not ball_b):
+        return math.inf  # a ball on a line, plane or wall
+    off_axes = (1 if nx != 0.0 else 0) + (1 if ny != 0.0 else 0) + (1 if nz != 0.0 else 0)
+    if off_axes < 2:
+        return math.inf
+    return float(ext[a, 0] if ball_a else ext[b, 0])
+
+
+def _rest(
+    c: int,
+    a: int,
+    b: int,
+    nx: float,
+    ny: float,
+    nz: float,
+    kind: Any,
+    vel: Any,
+    ext: Any,
+    ima: Any,
+    acc: Any,
+    sup: Any,
+    nsup: Any,
+    s_kind: Any,
+    rest: Any,
+    touching: Any,
+    rest_speed: float,
+    ledger: Any,
+) -> bool:
+    """Make pair ``c`` a resting contact if it is one (phase 2 of the module docstring): returns
+    whether it did."""
+    ima_a = ima[a] if a >= 0 else 0.0
+    rx = vel[b, 0] - (vel[a, 0] if a >= 0 else 0.0)
+    ry = vel[b, 1] - (vel[a, 1] if a >= 0 else 0.0)
+    rz = vel[b, 2] - (vel[a, 2] if a >= 0 else 0.0)
+    vn = rx * nx + ry * ny + rz * nz
+    pressing = 0.0
+    for k in range(3):
+        pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * (nx if k == 0 else ny if k == 1 else nz)
+    if abs(vn) > rest_speed or pressing >= 0.0:
+        return False
+    radius = _curvature(kind, ext, s_kind, a, b, nx, ny, nz)
+    if radius < math.inf:
+        tx = rx - nx * vn
+        ty = ry - ny * vn
+        tz = rz - nz * vn
+        if (tx * tx + ty * ty + tz * tz) / radius > -pressing:
+            return False  # too fast to follow the curve: it leaves the surface
+    if vn != 0.0:  # a slow approach or lift-off is stopped (e = 0): resting, not an impact
+        _kick(a, b, nx, ny, nz, vn, 0.0, vel, ima, sup, nsup, ledger, False)
+    ax = ay = az = 0.0
+    inv_a = 0.0
+    if a >= 0 and ima_a > 0.0:
+        ax, ay, az, inv_a = _response(a, -nx, -ny, -nz, ima, sup, nsup)
+    bx, by, bz, inv_b = _response(b, nx, ny, nz, ima, sup, nsup) if ima[b] > 0.0 else (0.0, 0.0, 0.0, 0.0)
+    if inv_a + inv_b <= 0.0:
+        return False
+    force = -pressing / (inv_a + inv_b)
+    if inv_a > 0.0:
+        acc[a, 0] += ax * force * ima_a
+        acc[a, 1] += ay * force * ima_a
+        acc[a, 2] += az * force * ima_a
+    if inv_b > 0.0:
+        acc[b, 0] += bx * force * ima[b]
+        acc[b, 1] += by * force * ima[b]
+        acc[b, 2] += bz * force * ima[b]
+    # What rests on a support that holds (a static, a kinematic body, a supported body) is
+    # supported too, along this contact's normal.
+    if a < 0 or ima_a == 0.0 or nsup[a] > 0:
+        if nsup[b] < MAX_SUPPORTS and ima[b] > 0.0:
+            sup[b, nsup[b], 0] = nx
+            sup[b, nsup[b], 1] = ny
+            sup[b, nsup[b], 2] = nz
+            nsup[b] += 1
+    elif (ima[b] == 0.0 or nsup[b] > 0) and nsup[a] < MAX_SUPPORTS:
+        sup[a, nsup[a], 0] = -nx
+        sup[a, nsup[a], 1] = -ny
+        sup[a, nsup[a], 2] = -nz
+        nsup[a] += 1
+    rest[c] = 1
+    touching[c] = 1
+    return True
+
+
+def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
+    """Gravity for a body of finite mass, nothing for a kinematic one; no supports."""
+    for k in range(3):
+        acc[i, k] = gravity[k] if ima[i] > 0.0 else 0.0
+    nsup[i] = 0
+
+
+# --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
+def _heap_push(ht: Any, hk: Any, hv: Any, size: int, t: float, k: int, v: int) -> int:
+    i = size
+    while i > 0:
+        p = (i - 1) // 2
+        if ht[p] < t or (ht[p] == t and hk[p] <= k):
+            break
+        ht[i] = ht[p]
+        hk[i] = hk[p]
+        hv[i] = hv[p]
+        i = p
+    ht[i] = t
+    hk[i] = k
+    hv[i] = v
+    return size + 1
+
+
+def _heap_pop(ht: Any, hk: Any, hv: Any, size: int) -> int:
+    """Remove the root (read it first); returns the new size."""
+    size -= 1
+    if size == 0:
+        return 0
+    t = ht[size]
+    k = hk[size]
+    v = hv[size]
+    i = 0
+    while True:
+        c = 2 * i + 1
+        if c >= size:
+            break
+        if c + 1 < size and (ht[c + 1] < ht[c] or (ht[c + 1] == ht[c] and hk[c + 1] < hk[c])):
+            c += 1
+        if t < ht[c] or (t == ht[c] and k <= hk[c]):
+            break
+        ht[i] = ht[c]
+        hk[i] = hk[c]
+        hv[i] = hv[c]
+        i = c
+    ht[i] = t
+    hk[i] = k
+    hv[i] = v
+    return size
+
+
+def _heap_room(ht: Any, hk: Any, hv: Any, size: int, ver: Any) -> Any:
+    """Make room for one more entry: drop stale entries, and grow the arrays if still half full."""
+    if size < ht.shape[0]:
+        return ht, hk, hv, size
+    kept = 0
+    for i in range(size):
+        if hv[i] == ver[hk[i]]:
+            ht[kept] = ht[i]
+            hk[kept] = hk[i]
+            hv[kept] = hv[i]
+            kept += 1
+    if 2 * kept > ht.shape[0]:
+        grown = 2 * ht.shape[0]
+        nt = np.empty(grown)
+        nk = np.empty(grown, np.int64)
+        nv = np.empty(grown, np.int64)
+        nt[:kept] = ht[:kept]
+        nk[:kept] = hk[:kept]
+        nv[:kept] = hv[:kept]
+        ht = nt
+        hk = nk
+        hv = nv
+    size = 0
+    for i in range(kept):  # heapify by pushing again
+        size = _heap_push(ht, hk, hv, size, ht[i], hk[i], hv[i])
+    return ht, hk, hv, size
+
+
+def _save_touching(
+    ca: Any, cb: Any, ids: Any, n: int, count: int, touching: Any, near: Any, touch_keys: Any, touch_count: Any
+) -> Any:
+    """Remember the pairs in contact (touching and within the contact margin) across re-sorts."""
+    if count > touch_keys.shape[0]:
+        touch_keys = np.zeros(2 * count, np.int64)
+    kept = 0
+    for c in range(count):
+        if touching[c] == 1 and near[c] == 1:
+            touch_keys[kept] = sk._pair_key(ca, cb, ids, n, c)
+            kept += 1
+    touch_keys[:kept] = np.sort(touch_keys[:kept])
+    touch_count[0] = kept
+    return touch_keys
+
+
+# --- the loop -----------------------------------------------------------------------------------
+def run_exact_steps(
+    kind: Any,
+    pos: Any,
+    vel: Any,
+    ext: Any,
+    ima: Any,
+    eb: Any,
+    ids: Any,
+    scratch_f: Any,
+    scratch_i: Any,
+    cell_start: Any,
+    dest: Any,
+    stencil: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    s_e: Any,
+    gravity: Any,
+    dims: int,
+    dt: float,
+    e_default: float,
+    slop: float,
+    solver_margin: float,
+    contact_margin: float,
+    rest_speed: float,
+    passes: int,
+    min_cell: float,
+    gap: float,
+    first_step: int,
+    steps: int,
+    record: bool,
+    touch_keys: Any,
+    touch_count: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    events: Any,
+    event_count: Any,
+    ledger: Any,
+    status: Any,
+) -> Any:
+    """Advance ``steps`` exact steps in place (the module docstring's order); arguments as
+    :func:`~collisionlab.engine.step_kernels.run_steps`, plus ``gap`` (``TOI_GAP``) and
+    ``status`` (``STATUS_SIZE`` counters). Returns ``(touch_keys, ca, cb, cd, events)``."""
+    n = pos.shape[0]
+    max_cells = cell_start.shape[0] - 2
+    lo = np.zeros(3)
+    shape = np.zeros(3, np.int64)
+    acc = np.zeros((n, 3))
+    tau = np.zeros(n)
+    sup = np.zeros((n, MAX_SUPPORTS, 3))
+    nsup = np.zeros(n, np.int64)
+    k2 = np.zeros(2, np.int64)
+    p2 = np.zeros((2, 3))
+    v2 = np.zeros((2, 3))
+    e2 = np.zeros((2, 3))
+    before = np.zeros(6)
+    queue = np.zeros(n, np.int64)
+    queued = np.zeros(n, np.int8)
+    kicked = np.zeros(n, np.int64)
+    is_kicked = np.zeros(n, np.int8)
+    g_size = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
+    resting_on = g_size > 0.0
+    ht = np.zeros(64)
+    hk = np.zeros(64, np.int64)
+    hv = np.zeros(64, np.int64)
+    for step in range(first_step, first_step + steps):
+        start = step * dt
+        t = 0.0
+        impacts = 0
+        for i in range(n):
+            tau[i] = 0.0
+        count = 0
+        touching = np.zeros(0, np.int8)
+        while True:  # one pass per listing of the candidates (more than one if a kick outran them)
+            remaining = dt - t
+            a_bound = g_size
+            v_bound = 0.0
+            rest = np.zeros(0, np.int8)
+            ignored = np.zeros(0, np.int8)
+            normals = np.zeros((0, 3))
+            for _attempt in range(8):
+                v_bound = 0.0
+                for i in range(n):
+                    v_bound = max(v_bound, math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2))
+                sweep = v_bound * remaining + 0.5 * a_bound * remaining * remaining
+                margin = contact_margin + 2.0 * sweep
+                h = sk._grid_geometry(pos, dims, min_cell + 2.0 * sweep, max_cells, lo, shape)
+                sk._counting_sort(pos, dims, lo, h, shape, cell_start, dest)
+                sk._store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
+                count = sk._find_contacts(
+                    kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, margin
+                )
+                if count > ca.shape[0]:
+                    ca = np.zeros(2 * count, np.int64)
+                    cb = np.zeros(2 * count, np.int64)
+                    cd = np.zeros(2 * count)
+                    sk._find_contacts(
+                        kind,
+                        pos,
+                        ext,
+                        ids,
+                        s_kind,
+                        s_a,
+                        s_b,
+                        dims,
+                        lo,
+                        h,
+                        shape,
+                        cell_start,
+                        stencil,
+                        ca,
+                        cb,
+                        cd,
+                        margin,
+                    )
+                # Phase 2: resting contacts and the accelerations they leave.
+                for i in range(n):
+                    _base_acceleration(i, acc, ima, gravity, nsup)
+                touching = np.zeros(count, np.int8)
+                rest = np.zeros(count, np.int8)
+                ignored = np.zeros(count, np.int8)
+                normals = np.zeros((count, 3))
+                for c in range(count):
+                    if sk._contains(touch_keys, touch_count[0], sk._pair_key(ca, cb, ids, n, c)):
+                        touching[c] = 1
+                if resting_on:
+                    order = sk._order_contacts(pos, ca, cb, cd, count)
+                    for c in range(count):
+                        if -cd[c] <= contact_margin:
+                            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
+                            normals[c, 0] = sep[1]
+                            normals[c, 1] = sep[2]
+                            normals[c, 2] = sep[3]
+                    for _pass in range(n + 1):  # a stack of k bodies settles in k passes
+                        changed = False
+                        for u in range(count):
+                            c = order[u]
+                            if rest[c] == 1 or -cd[c] > contact_margin:
+                                continue
+                            if _rest(
+                                c,
+                                ca[c],
+                                cb[c],
+                                normals[c, 0],
+                                normals[c, 1],
+                                normals[c, 2],
+                                kind,
+                                vel,
+                                ext,
+                                ima,
+                                acc,
+                                sup,
+                                nsup,
+                                s_kind,
+                                rest,
+                                touching,
+                                rest_speed,
+                                ledger,
+                            ):
+                                changed = True
+                        if not changed:
+                            break
+                grown = False
+                for i in range(n):
+                    if math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2) > a_bound:
+                        a_bound = math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2)
+                        grown = True
+                    if math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2) > v_bound:
+                        grown = True
+                if not grown:
+                    break
+            # Each body's candidate pairs (CSR).
+            adj_start = np.zeros(n + 1, np.int64)
+            for c in range(count):
+                if ca[c] >= 0:
+                    adj_start[ca[c] + 1] += 1
+                adj_start[cb[c] + 1] += 1
+            for i in range(n):
+                adj_start[i + 1] += adj_start[i]
+            fill = adj_start[:n].copy()
+            adj = np.zeros(max(1, adj_start[n]), np.int64)
+            for c in range(count):
+                if ca[c] >= 0:
+                    adj[fill[ca[c]]] = c
+                    fill[ca[c]] += 1
+                adj[fill[cb[c]]] = c
+                fill[cb[c]] += 1
+            # Phase 3: every candidate's first impact.
+            ver = np.zeros(count, np.int64)
+            size = 0
+            for c in range(count):
+                a = ca[c]
+                b = cb[c]
+                if rest[c] == 1 or (ima[b] == 0.0 and (a < 0 or ima[a] == 0.0)):
+                    continue
+                when = _time_of_impact(
+                    kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, k2, p2, v2, e2, gap
+                )
+                if when < dt:
+                    ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
+                    size = _heap_push(ht, hk, hv, size, when, c, 0)
+            # Phase 4: impacts in time order.
+            restart = False
+            while size > 0:
+                when = ht[0]
+                c = hk[0]
+                version = hv[0]
+                size = _heap_pop(ht, hk, hv, size)
+                if version != ver[c]:
+                    continue
+                if when >= dt:
+                    break
+                if impacts >= MAX_IMPACTS_PER_STEP:
+                    status[0] += 1
+                    break
+                impacts += 1
+                a = ca[c]
+                b = cb[c]
+                if a >= 0:
+                    _advance(a, when, pos, vel, acc, tau, ima, gravity, ledger)
+                _advance(b, when, pos, vel, acc, tau, ima, gravity, ledger)
+                sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+                ver[c] += 1
+                if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
+                    again = _time_of_impact(
+                        kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, k2, p2, v2, e2, gap
+                    )
+                    if again < dt:
+                        ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
+                        size = _heap_push(ht, hk, hv, size, again, c, ver[c])
+                    continue
+                nx = sep[1]
+                ny = sep[2]
+                nz = sep[3]
+                for k in range(3):
+                    before[k] = vel[a, k] if a >= 0 else 0.0
+                    before[3 + k] = vel[b, k]
+                vn = (before[3] - before[0]) * nx + (before[4] - before[1]) * ny + (before[5] - before[2]) * nz
+                id_a = ids[a] if a >= 0 else a
+                if vn >= 0.0:  # it grazes away: nothing to resolve
+                    if record and touching[c] == 0:
+                        events = sk._write_event(
+                            events,
+                            event_count[0],
+                            1,
+                            step + 1,
+                            start + when,
+                            id_a,
+                            ids[b],
+                            sep,
+                            vn,
+                            0.0,
+                            0.0,
+                            before,
+                            vel,
+                            a,
+                            b,
+                        )
+                        event_count[0] += 1
+                    ignored[c] = 1
+                    continue
+                e_pair = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
+                below = -vn < rest_speed
+                e = 0.0 if below else e_pair
+                j = _kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
+                status[1] += 1
+                if record and (touching[c] == 0 or not below):
+                    events = sk._write_event(
+                        events,
+                        event_count[0],
+                        0,
+                        step + 1,
+                        start + when,
+                        id_a,
+                        ids[b],
+                        sep,
+                        vn,
+                        j,
+                        e,
+                        before,
+                        vel,
+                        a,
+                        b,
+                    )
+                    event_count[0] += 1
+                touching[c] = 1
+                if below:
+                    ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
+                # Settle the contacts this impact touches (sequential impulses, breadth first).
+                n_kicked = 0
+                head = 0
+                tail = 0
+                for r in range(2):
+                    i = a if r == 0 else b
+                    if i >= 0 and ima[i] > 0.0:
+                        queue[tail % n] = i
+                        tail += 1
+                        queued[i] = 1
+                        kicked[n_kicked] = i
+                        n_kicked += 1
+                        is_kicked[i] = 1
+                settled = 0
+                while head < tail and settled < RELAX_IMPULSES:
+                    i = queue[head % n]
+                    head += 1
+                    queued[i] = 0
+                    for u in range(adj_start[i], adj_start[i + 1]):
+                        c2 = adj[u]
+                        a2 = ca[c2]
+                        b2 = cb[c2]
+                        other = b2 if a2 == i else a2
+                        if other >= 0:
+                            _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                        if sep2[0] > contact_margin:
+                            continue
+                        for k in range(3):
+                            before[k] = vel[a2, k] if a2 >= 0 else 0.0
+                            before[3 + k] = vel[b2, k]
+                        vn2 = (
+                            (before[3] - before[0]) * sep2[1]
+                            + (before[4] - before[1]) * sep2[2]
+                            + (before[5] - before[2]) * sep2[3]
+                        )
+                        if vn2 >= 0.0:
+                            continue
+                        e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
+                        e_2 = 0.0 if -vn2 < rest_speed else e2_pair
+                        j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
+                        if j2 == 0.0:
+                            continue
+                        settled += 1
+                        status[1] += 1
+                        if record and touching[c2] == 0:
+                            events = sk._write_event(
+                                events,
+                                event_count[0],
+                                0,
+                                step + 1,
+                                start + when,
+                                ids[a2] if a2 >= 0 else a2,
+                                ids[b2],
+                                sep2,
+                                vn2,
+                                j2,
+                                e_2,
+                                before,
+                                vel,
+                                a2,
+                                b2,
+                            )
+                            event_count[0] += 1
+                        touching[c2] = 1
+                        for r in range(2):
+                            i2 = a2 if r == 0 else b2
+                            if i2 < 0 or ima[i2] == 0.0:
+                                continue
+                            if is_kicked[i2] == 0:
+                                is_kicked[i2] = 1
+                                kicked[n_kicked] = i2
+                                n_kicked += 1
+                            if queued[i2] == 0 and tail - head < n:
+                                queue[tail % n] = i2
+                                tail += 1
+                                queued[i2] = 1
+                for q in range(head, tail):
+                    queued[queue[q % n]] = 0
+                # A kicked body that rested may lift off, and what rested on it with it: look at
+                # them again (their resting pairs are dropped, then found again on what holds).
+                n_look = n_kicked
+                for q in range(n_kicked):
+                    i = kicked[q]
+                    for u in range(adj_start[i], adj_start[i + 1]):
+                        c2 = adj[u]
+                        if rest[c2] == 0:
+                            continue
+                        rest[c2] = 0
+                        other = cb[c2] if ca[c2] == i else ca[c2]
+                        if other >= 0 and ima[other] > 0.0 and is_kicked[other] == 0:
+                            _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                            is_kicked[other] = 1
+                            kicked[n_look] = other
+                            n_look += 1
+                for q in range(n_look):
+                    i = kicked[q]
+                    _advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
+                    _base_acceleration(i, acc, ima, gravity, nsup)
+                if resting_on:  # on what holds: a static, a kinematic body, a supported body
+                    for _pass in range(MAX_SUPPORTS):
+                        changed = False
+                        for q in range(n_look):
+                            i = kicked[q]
+                            for u in range(adj_start[i], adj_start[i + 1]):
+                                c2 = adj[u]
+                                a2 = ca[c2]
+                                b2 = cb[c2]
+                                other = b2 if a2 == i else a2
+                                if rest[c2] == 1 or (other >= 0 and ima[other] > 0.0 and nsup[other] == 0):
+                                    continue
+                                if other >= 0:
+                                    _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                                sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                                if sep2[0] <= contact_margin and _rest(
+                                    c2,
+                                    a2,
+                                    b2,
+                                    sep2[1],
+                                    sep2[2],
+                                    sep2[3],
+                                    kind,
+                                    vel,
+                                    ext,
+                                    ima,
+                                    acc,
+                                    sup,
+                                    nsup,
+                                    s_kind,
+                                    rest,
+                                    touching,
+                                    rest_speed,
+                                    ledger,
+                                ):
+                                    changed = True
+                        if not changed:
+                            break
+                for q in range(n_look):
+                    i = kicked[q]
+                    speed = math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
+                    if speed > v_bound + a_bound * (when - t):
+                        restart = True
+                if restart:
+                    for q in range(n_look):
+                        is_kicked[kicked[q]] = 0
+                    for i in range(n):
+                        _advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
+                    near = np.zeros(count, np.int8)
+                    for c2 in range(count):
+                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
+                        near[c2] = 1 if sep2[0] <= contact_margin else 0
+                    touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
+                    t = when
+                    status[2] += 1
+                    break
+                # Predict the looked-at bodies' pairs again.
+                for q in range(n_look):
+                    i = kicked[q]
+                    for u in range(adj_start[i], adj_start[i + 1]):
+                        c2 = adj[u]
+                        if c2 != c and not below:
+                            ignored[c2] = 0
+                        a2 = ca[c2]
+                        b2 = cb[c2]
+                        ver[c2] += 1
+                        if rest[c2] == 1 or ignored[c2] == 1:
+                            continue
+                        if ima[b2] == 0.0 and (a2 < 0 or ima[a2] == 0.0):
+                            continue
+                        again = _time_of_impact(
+                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, k2, p2, v2, e2, gap
+                        )
+                        if again < dt:
+                            ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
+                            size = _heap_push(ht, hk, hv, size, again, c2, ver[c2])
+                for q in range(n_look):
+                    is_kicked[kicked[q]] = 0
+            if not restart:
+                break
+        # Phase 5: the end of the step.
+        for i in range(n):
+            _advance(i, dt, pos, vel, acc, tau, ima, gravity, ledger)
+        for c in range(count):
+            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
+            cd[c] = -sep[0]
+        order = sk._order_contacts(pos, ca, cb, cd, count)
+        for _ in range(passes):
+            if (
+                sk._push_apart(
+                    kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, order, gravity, slop, solver_margin, ledger
+                )
+                == 0
+            ):
+                break
+        sk._clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
+        near = np.zeros(count, np.int8)
+        for c in range(count):
+            near[c] = 1 if -cd[c] <= contact_margin else 0
+        touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
+    return touch_keys, ca, cb, cd, events
