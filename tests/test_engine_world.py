@@ -98,9 +98,11 @@ def test_a_permutation_of_the_bodies_permutes_the_run() -> None:
     assert len(one.events) == len(two.events) > 10
 
 
-def test_compiled_and_python_kernels_agree_to_the_last_bit() -> None:
-    text = """
+@pytest.mark.parametrize("mode", ["euler", "exact"])
+def test_compiled_and_python_kernels_agree_to_the_last_bit(mode: str) -> None:
+    text = f"""
     [simulation]
+    mode = "{mode}"
     dt = 0.005
     steps = 60
     restitution = 0.8

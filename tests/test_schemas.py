@@ -46,11 +46,15 @@ def test_every_examples_run_in_both_modes_meets_the_run_schema(name: str) -> Non
 
 
 def test_a_slow_touch_is_documented_as_below_the_rest_threshold() -> None:
-    # Exact mode: a ball touching the floor approaches at 0.5 mm/s, below REST_SPEED (1 mm/s): no
-    # bounce. (In euler mode a slow touch under gravity is a resting contact and no event at all.)
-    ball = Body("ball", Sphere((0, 1, 0), 1), velocity=(0, -0.0005, 0))
+    # Exact mode, weak gravity (0.01 m/s^2): a ball 2e-7 m above the floor (beyond CONTACT_MARGIN,
+    # 1e-7 m, so not yet resting) falls at 0.5 mm/s and lands at sqrt(0.0005^2 + 2 * 0.01 * 2e-7)
+    # = 0.504 mm/s, below REST_SPEED (1 mm/s): no bounce (e = 0), and the event says why. (Without
+    # gravity nothing rests and a slow touch bounces; in euler mode a slow touch under gravity is a
+    # resting contact and no event at all.)
+    ball = Body("ball", Sphere((0, 1 + 2e-7, 0), 1), velocity=(0, -0.0005, 0))
     floor = Obstacle("floor", Plane((0, 0, 0), (0, 1, 0)))
-    record = simulate(Scenario(Settings(dt=0.01, steps=5, restitution=0.5, mode="exact"), (ball,), (floor,)))
+    settings = Settings(dt=0.01, steps=5, restitution=0.5, gravity=(0, -0.01, 0), mode="exact")
+    record = simulate(Scenario(settings, (ball,), (floor,)))
     (event,) = check("run", json.loads(render_json(record)))["events"]
     assert event["below_rest_threshold"] is True and event["restitution"] == 0.0
 

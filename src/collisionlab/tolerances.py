@@ -7,6 +7,7 @@ names; no bare epsilon literal appears anywhere else in the package.
 from __future__ import annotations
 
 __all__ = [
+    "APPROACH_ROUNDING",
     "BROADPHASE_WIDEN",
     "COLLINEAR_SINE",
     "CONTACT_MARGIN",
@@ -78,3 +79,12 @@ BROADPHASE_WIDEN: float = 1e-12
 #: (1e-13 m at 1e3 m). Past that scale the iteration's cap ends it a little early instead, which
 #: is conservative: the impact is resolved at a gap below ``CONTACT_MARGIN``, never after it.
 TOI_GAP: float = 1e-12
+
+#: Dimensionless. The exact stepper's approach speed ``v_n = (v_b - v_a) . n`` of a pair is taken
+#: as zero when ``|v_n|`` is at most this times ``|v_a| + |v_b|``: the rounding of the dot product
+#: and of the impulse that set it (an e = 0 impact of an oblique pair leaves ``v_n`` ~ 1e-17 m/s
+#: at 1 m/s). Kicking such a pair calls for an impulse below one ulp of the velocities, which
+#: changes nothing, so without this floor the pair would be kicked again without end.
+#: 16 ulp of 1.0: above the rounding of a 3-term dot product of differences, far below any
+#: approach a scene means (1e-15 m/s at 1 m/s).
+APPROACH_ROUNDING: float = 16 * 2.0**-52

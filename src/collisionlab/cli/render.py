@@ -166,10 +166,35 @@ def _no_signed_zero(value: Any) -> Any:
     return value
 
 
+def _json_lines(data: dict[str, Any]) -> str:
+    """``data`` as JSON, one top-level key per line and each item of a list (a frame, an event)
+    on a line of its own: readable and line-oriented, and written by the json module's C
+    encoder (which ``indent`` turns off: a run's frames and events are most of the work).
+
+    >>> print(_json_lines({"title": "t", "frames": [{"step": 0}, {"step": 1}], "events": []}))
+    {
+     "title": "t",
+     "frames": [
+      {"step": 0},
+      {"step": 1}
+     ],
+     "events": []
+    }
+    """
+    parts = []
+    for key, value in data.items():
+        if isinstance(value, list) and value:
+            items = ",\n  ".join(json.dumps(item) for item in value)
+            parts.append(f" {json.dumps(key)}: [\n  {items}\n ]")
+        else:
+            parts.append(f" {json.dumps(key)}: {json.dumps(value)}")
+    return "{\n" + ",\n".join(parts) + "\n}"
+
+
 def render_json(record: RunRecord, every: int = 1) -> str:
     data = _no_signed_zero(record.to_dict())
     data["frames"] = [f for f in data["frames"] if f["step"] % every == 0 or f["step"] == record.steps]
-    return json.dumps(data, indent=1) + "\n"
+    return _json_lines(data) + "\n"
 
 
 def render(record: RunRecord, fmt: str, every: int = 1, quiet: bool = False, explain: bool = False) -> str:

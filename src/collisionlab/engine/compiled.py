@@ -69,6 +69,7 @@ def _forget_stale() -> None:
     """Remove a kernel file's cached code if a file it calls is newer than it."""
     for stem, callees in _CALLS.items():
         newest = max((_HERE / f"{callee}.py").stat().st_mtime for callee in callees)
+        newest = max(newest, (_HERE.parent / "tolerances.py").stat().st_mtime)  # constants it bakes in
         cached = _cache_files(stem)
         if cached and min(f.stat().st_mtime for f in cached) < newest:
             for f in cached:

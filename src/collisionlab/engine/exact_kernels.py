@@ -47,6 +47,8 @@ from typing import Any
 
 import numpy as np
 
+from ..tolerances import APPROACH_ROUNDING
+
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
     sk: Any = globals()["_STEP"]
@@ -71,10 +73,20 @@ MAX_SUPPORTS = 3
 STATUS_SIZE = 3
 
 #: Helpers the compiled form inlines into their callers.
-INLINE = ("_first_root", "_response")
+INLINE = ("_first_root", "_response", "_rounding_speed")
 
 
 # --- motion and time of impact ------------------------------------------------------------------
+def _rounding_speed(ux: float, uy: float, uz: float, wx: float, wy: float, wz: float) -> float:
+    """The approach speed that is only rounding for bodies of velocities ``u`` and ``w``
+    (``APPROACH_ROUNDING`` in :mod:`collisionlab.tolerances`).
+
+    >>> _rounding_speed(0.5, 0.0, 0.0, -1.0, 0.0, 0.0) < 1e-14
+    True
+    """
+    return APPROACH_ROUNDING * (math.sqrt(ux * ux + uy * uy + uz * uz) + math.sqrt(wx * wx + wy * wy + wz * wz))
+
+
 def _first_root(c0: float, c1: float, c2: float, limit: float) -> float:
     """The first ``t`` in ``(0, limit]`` where ``c0 + c1 t + c2 t^2`` (with ``c0 > 0``) reaches 0,
     or ``inf`` (numerically stable roots: Press et al., *Numerical Recipes*, 5.6).
@@ -110,7 +122,7 @@ def _ball_ball_root(p2: Any, v2: Any, reach: float, limit: float) -> float:
     (``p``, ``w``: rows 1 minus 0 of ``p2`` and ``v2``), or ``inf``.
 
     >>> p = np.array([[0.0, 0, 0], [3.0, 1, 0]]); w = np.array([[1.0, 0, 0], [0.0, 0, 0]])
-    >>> _ball_ball_root(p, w, 1.0, 10.0)   # a graze: (3 - t)^2 + 1 = 1 at t = 3 only
+    >>> float(_ball_ball_root(p, w, 1.0, 10.0))   # a graze: (3 - t)^2 + 1 = 1 at t = 3 only
     3.0
     """
     px = p2[1, 0] - p2[0, 0]
@@ -224,7 +236,8 @@ def _time_of_impact(
         az = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
         s2 = 0.5 * (ax * nx + ay * ny + az * nz)
         if sep[0] <= gap:
-            if s1 < 0.0 or (s1 == 0.0 and s2 < 0.0):
+            still = _rounding_speed(v2[0, 0], v2[0, 1], v2[0, 2], v2[1, 0], v2[1, 1], v2[1, 2])
+            if s1 < -still or (s1 <= still and s2 < 0.0):
                 return t
             if jumped or s2 >= 0.0:
                 return math.inf
@@ -256,21 +269,23 @@ def _time_of_impact(
 
 
 # --- impulses -----------------------------------------------------------------------------------
-def _response(i: int, dx: float, dy: float, dz: float, ima: Any, sup: Any, nsup: Any) -> Any:
+def _response(i: int, dx: float, dy: float, dz: float, ima: Any, sup: Any, nsup: Any, free: bool) -> Any:
     """How body ``i`` answers a unit impulse along ``d``: a body resting on supports cannot be
-    pushed into them, so the part along a support's normal goes to the support. Returns the
-    direction its velocity changes (per unit impulse, times its mass) and its inverse mass along
-    ``d``: ``(1 - (s.d)^2) / m`` on one support ``s``, ``1/m`` free."""
+    pushed into them, so the part along a support's normal goes to the support (unless ``free``).
+    Returns the direction ``m`` its velocity changes in (per unit impulse, times its mass), its
+    inverse mass along ``d``, ``(m.d) / m`` (``(1 - (s.d)^2) / m`` on one support ``s``, ``1/m``
+    free), and ``|m|^2 / m``."""
     mx = dx
     my = dy
     mz = dz
-    for s in range(nsup[i]):
-        into = mx * sup[i, s, 0] + my * sup[i, s, 1] + mz * sup[i, s, 2]
-        if into < 0.0:
-            mx -= sup[i, s, 0] * into
-            my -= sup[i, s, 1] * into
-            mz -= sup[i, s, 2] * into
-    return mx, my, mz, (mx * dx + my * dy + mz * dz) * ima[i]
+    if not free:
+        for s in range(nsup[i]):
+            into = mx * sup[i, s, 0] + my * sup[i, s, 1] + mz * sup[i, s, 2]
+            if into < 0.0:
+                mx -= sup[i, s, 0] * into
+                my -= sup[i, s, 1] * into
+                mz -= sup[i, s, 2] * into
+    return mx, my, mz, (mx * dx + my * dy + mz * dz) * ima[i], (mx * mx + my * my + mz * mz) * ima[i]
 
 
 def _kick(
@@ -288,28 +303,49 @@ def _kick(
     ledger: Any,
     impact: bool,
 ) -> float:
-    """Apply ``j = -(1 + e) v_n / (1/m_a + 1/m_b)`` along ``n`` (A gets minus it), each body
-    answering through its supports (:func:`_response`). The kinetic energy it changes goes to
-    ``ledger[1]``; an impact (not a resting contact's stop) also adds its predicted loss
-    ``(1 - e^2) mu v_n^2 / 2`` to ``ledger[3]`` and counts in ``ledger[5]`` or ``ledger[6]``.
-    Returns ``j`` (0 when neither body can move)."""
-    ax = ay = az = 0.0
-    inv_a = 0.0
-    if a >= 0 and ima[a] > 0.0:
-        ax, ay, az, inv_a = _response(a, -nx, -ny, -nz, ima, sup, nsup)
-    bx, by, bz, inv_b = _response(b, nx, ny, nz, ima, sup, nsup) if ima[b] > 0.0 else (0.0, 0.0, 0.0, 0.0)
-    inv_sum = inv_a + inv_b
-    if inv_sum <= 0.0:
-        return 0.0
-    j = gk.impulse_magnitude(vn, inv_sum, e)
+    """Apply ``j = -(1 + e) v_n / (1/m_a + 1/m_b)`` along ``n`` (A gets minus it; lab eqs. 12,
+    15, 24), each body answering through its supports (:func:`_response`; its inverse mass along
+    ``n`` is then smaller). The supports' normals are those of the moment they were found, so if
+    that answer would add kinetic energy (beyond what ``e > 1`` adds free) the kick is applied
+    free: a free impulse changes it by ``-(1 - e^2) mu v_n^2 / 2``. The kinetic energy it changes
+    goes to ``ledger[1]``; an impact (not a resting contact's stop) also adds its predicted loss
+    to ``ledger[3]`` and counts in ``ledger[5]`` or ``ledger[6]``. Returns ``j`` (0 when neither
+    body can move)."""
+    ax = ay = az = bx = by = bz = 0.0
+    inv_sum = 0.0
+    j = 0.0
+    for attempt in range(2):
+        free = attempt == 1
+        ax = ay = az = 0.0
+        inv_a = energy_a = 0.0
+        if a >= 0 and ima[a] > 0.0:
+            ax, ay, az, inv_a, energy_a = _response(a, -nx, -ny, -nz, ima, sup, nsup, free)
+        bx = by = bz = 0.0
+        inv_b = energy_b = 0.0
+        if ima[b] > 0.0:
+            bx, by, bz, inv_b, energy_b = _response(b, nx, ny, nz, ima, sup, nsup, free)
+        inv_sum = inv_a + inv_b
+        if inv_sum <= 0.0:
+            if free:
+                return 0.0
+            continue
+        j = gk.impulse_magnitude(vn, inv_sum, e)
+        if free:
+            break
+        u = vel[b, 0] * bx + vel[b, 1] * by + vel[b, 2] * bz
+        if a >= 0:
+            u += vel[a, 0] * ax + vel[a, 1] * ay + vel[a, 2] * az
+        gained = j * u + 0.5 * j * j * (energy_a + energy_b)
+        if gained <= max(0.0, 0.5 * (e * e - 1.0) * vn * vn / inv_sum):
+            break
     kinetic = 0.0
-    if inv_a > 0.0:
+    if a >= 0 and ima[a] > 0.0:
         before = vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2
         vel[a, 0] += ax * j * ima[a]
         vel[a, 1] += ay * j * ima[a]
         vel[a, 2] += az * j * ima[a]
         kinetic += 0.5 * (vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2 - before) / ima[a]
-    if inv_b > 0.0:
+    if ima[b] > 0.0:
         before = vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2
         vel[b, 0] += bx * j * ima[b]
         vel[b, 1] += by * j * ima[b]
@@ -342,6 +378,53 @@ def _curvature(kind: Any, ext: Any, s_kind: Any, a: int, b: int, nx: float, ny: 
     if off_axes < 2:
         return math.inf
     return float(ext[a, 0] if ball_a else ext[b, 0])
+
+
+def _support_expiry(
+    a: int, b: int, kind: Any, vel: Any, acc: Any, ext: Any, s_kind: Any, normals: Any, c: int, margin: float
+) -> float:
+    """How long resting pair ``c`` (normal ``normals[c]``) may be held by its accelerations of
+    the moment: a ball on a box (its face ends at an edge, its edge is curved) or on a ball meets a
+    support whose normal turns as the two slide past each other, and the flight the rest set
+    then leaves the surface by ``s^2 / (2 R)`` after a tangential travel ``s`` (``R``: the ball's
+    radius, or the two radii's sum). It is looked at again once ``s`` could reach
+    ``sqrt(R margin)`` (a gap of ``margin / 2``): ``s = |v_t| t + |a_t| t^2 / 2``. ``inf`` for a
+    flat support (a line, a plane, a wall) or two boxes, and when nothing slides.
+
+    >>> kind = np.array([1, 3]); ext = np.array([[0.5, 0, 0], [1.0, 1, 1]]); n = np.array([[0.0, 1, 0]])
+    >>> vel = np.array([[0.0, 0, 0], [0.1, 0, 0]]); acc = np.zeros((2, 3))
+    >>> round(float(_support_expiry(1, 0, kind, vel, acc, ext, np.zeros(0, np.int64), n, 0, 2e-7)), 12)
+    0.00316227766
+
+    (a ball of radius 0.5 on a box sliding past it at 0.1 m/s: ``sqrt(0.5 * 2e-7) / 0.1`` s.)
+    """
+    ball_a = a >= 0 and kind[a] <= sk.BALL_3D
+    ball_b = kind[b] <= sk.BALL_3D
+    box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == sk.STATIC_BOX)
+    if ball_a and ball_b:
+        radius = ext[a, 0] + ext[b, 0]
+    elif ball_b and box_a:
+        radius = ext[b, 0]
+    elif ball_a and not ball_b:
+        radius = ext[a, 0]
+    else:
+        return math.inf
+    nx = normals[c, 0]
+    ny = normals[c, 1]
+    nz = normals[c, 2]
+    rx = vel[b, 0] - (vel[a, 0] if a >= 0 else 0.0)
+    ry = vel[b, 1] - (vel[a, 1] if a >= 0 else 0.0)
+    rz = vel[b, 2] - (vel[a, 2] if a >= 0 else 0.0)
+    qx = acc[b, 0] - (acc[a, 0] if a >= 0 else 0.0)
+    qy = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
+    qz = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
+    vn = rx * nx + ry * ny + rz * nz
+    qn = qx * nx + qy * ny + qz * nz
+    vt = math.sqrt((rx - vn * nx) ** 2 + (ry - vn * ny) ** 2 + (rz - vn * nz) ** 2)
+    at = math.sqrt((qx - qn * nx) ** 2 + (qy - qn * ny) ** 2 + (qz - qn * nz) ** 2)
+    if vt == 0.0 and at == 0.0:
+        return math.inf
+    return _first_root(math.sqrt(radius * margin), -vt, -0.5 * at, math.inf)
 
 
 def _rest(
@@ -388,8 +471,11 @@ def _rest(
     ax = ay = az = 0.0
     inv_a = 0.0
     if a >= 0 and ima_a > 0.0:
-        ax, ay, az, inv_a = _response(a, -nx, -ny, -nz, ima, sup, nsup)
-    bx, by, bz, inv_b = _response(b, nx, ny, nz, ima, sup, nsup) if ima[b] > 0.0 else (0.0, 0.0, 0.0, 0.0)
+        ax, ay, az, inv_a, _ = _response(a, -nx, -ny, -nz, ima, sup, nsup, False)
+    bx = by = bz = 0.0
+    inv_b = 0.0
+    if ima[b] > 0.0:
+        bx, by, bz, inv_b, _ = _response(b, nx, ny, nz, ima, sup, nsup, False)
     if inv_a + inv_b <= 0.0:
         return False
     force = -pressing / (inv_a + inv_b)
@@ -704,7 +790,7 @@ def run_exact_steps(
                 adj[fill[cb[c]]] = c
                 fill[cb[c]] += 1
             # Phase 3: every candidate's first impact.
-            ver = np.zeros(count, np.int64)
+            ver = np.zeros(2 * count, np.int64)  # a pair's prediction, then (count + c) its rest's expiry
             size = 0
             for c in range(count):
                 a = ca[c]
@@ -717,6 +803,12 @@ def run_exact_steps(
                 if when < dt:
                     ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                     size = _heap_push(ht, hk, hv, size, when, c, 0)
+            for c in range(count):
+                if rest[c] == 1:
+                    when = t + _support_expiry(ca[c], cb[c], kind, vel, acc, ext, s_kind, normals, c, contact_margin)
+                    if when < dt:
+                        ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
+                        size = _heap_push(ht, hk, hv, size, when, count + c, 0)
             # Phase 4: impacts in time order.
             restart = False
             while size > 0:
@@ -732,157 +824,192 @@ def run_exact_steps(
                     status[0] += 1
                     break
                 impacts += 1
+                expiry = c >= count
+                if expiry:
+                    c -= count
                 a = ca[c]
                 b = cb[c]
                 if a >= 0:
                     _advance(a, when, pos, vel, acc, tau, ima, gravity, ledger)
                 _advance(b, when, pos, vel, acc, tau, ima, gravity, ledger)
-                sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-                ver[c] += 1
-                if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
-                    again = _time_of_impact(
-                        kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, k2, p2, v2, e2, gap
-                    )
-                    if again < dt:
-                        ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
-                        size = _heap_push(ht, hk, hv, size, again, c, ver[c])
-                    continue
-                nx = sep[1]
-                ny = sep[2]
-                nz = sep[3]
-                for k in range(3):
-                    before[k] = vel[a, k] if a >= 0 else 0.0
-                    before[3 + k] = vel[b, k]
-                vn = (before[3] - before[0]) * nx + (before[4] - before[1]) * ny + (before[5] - before[2]) * nz
-                id_a = ids[a] if a >= 0 else a
-                if vn >= 0.0:  # it grazes away: nothing to resolve
-                    if record and touching[c] == 0:
+                if expiry:
+                    # A sliding rest's support has turned (_support_expiry): no impulse; the gap
+                    # its straight flight opened is closed (the held body moved onto its holder,
+                    # as push-apart moves bodies: momentum kept, the energy in ledger[2]) and its
+                    # bodies are looked at again below, as kicked bodies are.
+                    sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+                    if 0.0 < sep[0] <= contact_margin:
+                        held = b if a < 0 or ima[a] == 0.0 or nsup[a] > 0 else a
+                        sign = -1.0 if held == b else 1.0
+                        if ima[held] > 0.0:
+                            for k in range(3):
+                                pos[held, k] += sign * sep[1 + k] * sep[0]
+                                ledger[2] -= sign * gravity[k] * sep[1 + k] * sep[0] / ima[held]  # -m g.dx
+                    below = True
+                    n_kicked = 0
+                    for r in range(2):
+                        i = a if r == 0 else b
+                        if i >= 0 and ima[i] > 0.0:
+                            kicked[n_kicked] = i
+                            n_kicked += 1
+                            is_kicked[i] = 1
+                else:
+                    sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+                    ver[c] += 1
+                    if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
+                        again = _time_of_impact(
+                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, k2, p2, v2, e2, gap
+                        )
+                        if again < dt:
+                            ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
+                            size = _heap_push(ht, hk, hv, size, again, c, ver[c])
+                        continue
+                    nx = sep[1]
+                    ny = sep[2]
+                    nz = sep[3]
+                    for k in range(3):
+                        before[k] = vel[a, k] if a >= 0 else 0.0
+                        before[3 + k] = vel[b, k]
+                    vn = (before[3] - before[0]) * nx + (before[4] - before[1]) * ny + (before[5] - before[2]) * nz
+                    id_a = ids[a] if a >= 0 else a
+                    if vn >= -_rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5]):
+                        # it grazes away (or its approach is only rounding): nothing to resolve
+                        if record and touching[c] == 0:
+                            events = sk._write_event(
+                                events,
+                                event_count[0],
+                                sk.EVENT_SKIPPED,
+                                step + 1,
+                                start + when,
+                                id_a,
+                                ids[b],
+                                sep,
+                                vn,
+                                0.0,
+                                0.0,
+                                before,
+                                vel,
+                                a,
+                                b,
+                            )
+                            event_count[0] += 1
+                        ignored[c] = 1
+                        continue
+                    e_pair = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
+                    # An approach no faster than falling twice the contact margin gives (a rest
+                    # within the margin whose flight left a curved support by up to half of it
+                    # more, _support_expiry) lands resting: e = 0 and no new event if in contact,
+                    # as Forward Euler's |g.n| dt rule. Physics unchanged: such a hop would rise
+                    # less than the margin.
+                    pressing = 0.0
+                    for k in range(3):
+                        pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
+                    below = -vn < rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
+                    e = 0.0 if below else e_pair
+                    j = _kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
+                    status[1] += 1
+                    if record and (touching[c] == 0 or not below):
                         events = sk._write_event(
                             events,
                             event_count[0],
-                            1,
+                            sk.EVENT_BELOW_REST if below else sk.EVENT_IMPACT,
                             step + 1,
                             start + when,
                             id_a,
                             ids[b],
                             sep,
                             vn,
-                            0.0,
-                            0.0,
+                            j,
+                            e,
                             before,
                             vel,
                             a,
                             b,
                         )
                         event_count[0] += 1
-                    ignored[c] = 1
-                    continue
-                e_pair = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
-                below = -vn < rest_speed
-                e = 0.0 if below else e_pair
-                j = _kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
-                status[1] += 1
-                if record and (touching[c] == 0 or not below):
-                    events = sk._write_event(
-                        events,
-                        event_count[0],
-                        0,
-                        step + 1,
-                        start + when,
-                        id_a,
-                        ids[b],
-                        sep,
-                        vn,
-                        j,
-                        e,
-                        before,
-                        vel,
-                        a,
-                        b,
-                    )
-                    event_count[0] += 1
-                touching[c] = 1
-                if below:
-                    ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
-                # Settle the contacts this impact touches (sequential impulses, breadth first).
-                n_kicked = 0
-                head = 0
-                tail = 0
-                for r in range(2):
-                    i = a if r == 0 else b
-                    if i >= 0 and ima[i] > 0.0:
-                        queue[tail % n] = i
-                        tail += 1
-                        queued[i] = 1
-                        kicked[n_kicked] = i
-                        n_kicked += 1
-                        is_kicked[i] = 1
-                settled = 0
-                while head < tail and settled < RELAX_IMPULSES:
-                    i = queue[head % n]
-                    head += 1
-                    queued[i] = 0
-                    for u in range(adj_start[i], adj_start[i + 1]):
-                        c2 = adj[u]
-                        a2 = ca[c2]
-                        b2 = cb[c2]
-                        other = b2 if a2 == i else a2
-                        if other >= 0:
-                            _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                        if sep2[0] > contact_margin:
-                            continue
-                        for k in range(3):
-                            before[k] = vel[a2, k] if a2 >= 0 else 0.0
-                            before[3 + k] = vel[b2, k]
-                        vn2 = (
-                            (before[3] - before[0]) * sep2[1]
-                            + (before[4] - before[1]) * sep2[2]
-                            + (before[5] - before[2]) * sep2[3]
-                        )
-                        if vn2 >= 0.0:
-                            continue
-                        e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
-                        e_2 = 0.0 if -vn2 < rest_speed else e2_pair
-                        j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
-                        if j2 == 0.0:
-                            continue
-                        settled += 1
-                        status[1] += 1
-                        if record and touching[c2] == 0:
-                            events = sk._write_event(
-                                events,
-                                event_count[0],
-                                0,
-                                step + 1,
-                                start + when,
-                                ids[a2] if a2 >= 0 else a2,
-                                ids[b2],
-                                sep2,
-                                vn2,
-                                j2,
-                                e_2,
-                                before,
-                                vel,
-                                a2,
-                                b2,
-                            )
-                            event_count[0] += 1
-                        touching[c2] = 1
-                        for r in range(2):
-                            i2 = a2 if r == 0 else b2
-                            if i2 < 0 or ima[i2] == 0.0:
+                    touching[c] = 1
+                    if -vn < rest_speed:
+                        ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
+                    # Settle the contacts this impact touches (sequential impulses, breadth first).
+                    n_kicked = 0
+                    head = 0
+                    tail = 0
+                    for r in range(2):
+                        i = a if r == 0 else b
+                        if i >= 0 and ima[i] > 0.0:
+                            queue[tail % n] = i
+                            tail += 1
+                            queued[i] = 1
+                            kicked[n_kicked] = i
+                            n_kicked += 1
+                            is_kicked[i] = 1
+                    settled = 0
+                    while head < tail and settled < RELAX_IMPULSES:
+                        i = queue[head % n]
+                        head += 1
+                        queued[i] = 0
+                        for u in range(adj_start[i], adj_start[i + 1]):
+                            c2 = adj[u]
+                            a2 = ca[c2]
+                            b2 = cb[c2]
+                            other = b2 if a2 == i else a2
+                            if other >= 0:
+                                _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                            sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                            if sep2[0] > contact_margin:
                                 continue
-                            if is_kicked[i2] == 0:
-                                is_kicked[i2] = 1
-                                kicked[n_kicked] = i2
-                                n_kicked += 1
-                            if queued[i2] == 0 and tail - head < n:
-                                queue[tail % n] = i2
-                                tail += 1
-                                queued[i2] = 1
-                for q in range(head, tail):
-                    queued[queue[q % n]] = 0
+                            for k in range(3):
+                                before[k] = vel[a2, k] if a2 >= 0 else 0.0
+                                before[3 + k] = vel[b2, k]
+                            vn2 = (
+                                (before[3] - before[0]) * sep2[1]
+                                + (before[4] - before[1]) * sep2[2]
+                                + (before[5] - before[2]) * sep2[3]
+                            )
+                            still = _rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5])
+                            if vn2 >= -still:
+                                continue
+                            e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
+                            e_2 = 0.0 if -vn2 < rest_speed else e2_pair
+                            j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
+                            if j2 == 0.0:
+                                continue
+                            settled += 1
+                            status[1] += 1
+                            if record and touching[c2] == 0:
+                                events = sk._write_event(
+                                    events,
+                                    event_count[0],
+                                    sk.EVENT_BELOW_REST if -vn2 < rest_speed else sk.EVENT_IMPACT,
+                                    step + 1,
+                                    start + when,
+                                    ids[a2] if a2 >= 0 else a2,
+                                    ids[b2],
+                                    sep2,
+                                    vn2,
+                                    j2,
+                                    e_2,
+                                    before,
+                                    vel,
+                                    a2,
+                                    b2,
+                                )
+                                event_count[0] += 1
+                            touching[c2] = 1
+                            for r in range(2):
+                                i2 = a2 if r == 0 else b2
+                                if i2 < 0 or ima[i2] == 0.0:
+                                    continue
+                                if is_kicked[i2] == 0:
+                                    is_kicked[i2] = 1
+                                    kicked[n_kicked] = i2
+                                    n_kicked += 1
+                                if queued[i2] == 0 and tail - head < n:
+                                    queue[tail % n] = i2
+                                    tail += 1
+                                    queued[i2] = 1
+                    for q in range(head, tail):
+                        queued[queue[q % n]] = 0
                 # A kicked body that rested may lift off, and what rested on it with it: look at
                 # them again (their resting pairs are dropped, then found again on what holds).
                 n_look = n_kicked
@@ -893,6 +1020,7 @@ def run_exact_steps(
                         if rest[c2] == 0:
                             continue
                         rest[c2] = 0
+                        ver[count + c2] += 1  # its expiry, if any, with it
                         other = cb[c2] if ca[c2] == i else ca[c2]
                         if other >= 0 and ima[other] > 0.0 and is_kicked[other] == 0:
                             _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
@@ -939,8 +1067,23 @@ def run_exact_steps(
                                     ledger,
                                 ):
                                     changed = True
+                                    for k in range(3):
+                                        normals[c2, k] = sep2[1 + k]
                         if not changed:
                             break
+                    for q in range(n_look):  # the new rests' expiries
+                        i = kicked[q]
+                        for u in range(adj_start[i], adj_start[i + 1]):
+                            c2 = adj[u]
+                            if rest[c2] == 0:
+                                continue
+                            ver[count + c2] += 1
+                            later = when + _support_expiry(
+                                ca[c2], cb[c2], kind, vel, acc, ext, s_kind, normals, c2, contact_margin
+                            )
+                            if later < dt:
+                                ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
+                                size = _heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
                 for q in range(n_look):
                     i = kicked[q]
                     speed = math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
@@ -1001,6 +1144,8 @@ def run_exact_steps(
         sk._clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
         near = np.zeros(count, np.int8)
         for c in range(count):
-            near[c] = 1 if -cd[c] <= contact_margin else 0
+            # a resting pair is in contact even where its flight past a curved support opened
+            # its gap a little beyond the margin (_support_expiry)
+            near[c] = 1 if -cd[c] <= contact_margin or (c < rest.shape[0] and rest[c] == 1) else 0
         touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
     return touch_keys, ca, cb, cd, events

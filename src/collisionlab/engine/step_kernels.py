@@ -55,7 +55,10 @@ __all__ = [
     "BALL_3D",
     "BOX_2D",
     "BOX_3D",
+    "EVENT_BELOW_REST",
     "EVENT_COLUMNS",
+    "EVENT_IMPACT",
+    "EVENT_SKIPPED",
     "LEDGER_SIZE",
     "STATIC_BOUNDARY",
     "STATIC_BOX",
@@ -89,7 +92,12 @@ INLINE = (
     "_contains",
 )
 
-#: Columns of an event row: kind (0 impulse, 1 skipped as separating), step, time, id of A (a
+#: An event row's kind: an impact; a contact skipped as separating; an impact whose e was set to 0
+#: because its approach was below the rest threshold (``below_rest_threshold`` of the event).
+EVENT_IMPACT = 0
+EVENT_SKIPPED = 1
+EVENT_BELOW_REST = 2
+#: Columns of an event row: kind (``EVENT_*``), step, time, id of A (a
 #: static is ``-1 - s``), id of B, normal (3), point (3), v_n, j, e, v_a before (3), v_b before (3),
 #: v_a after (3), v_b after (3). (A slow approach is a resting contact, never an event.)
 EVENT_COLUMNS = 26
@@ -658,8 +666,9 @@ def _impulses(
             if record and first_pass and touching[c] == 0 and sep[0] <= 0.0:
                 for k in range(6):
                     before[k] = 0.0
+                code = EVENT_SKIPPED
                 events = _write_event(
-                    events, event_count[0], 1, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
+                    events, event_count[0], code, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
                 )
                 event_count[0] += 1
             continue
@@ -717,7 +726,7 @@ def _impulses(
                 events = _write_event(
                     events,
                     event_count[0],
-                    0,
+                    EVENT_BELOW_REST if -vn < bounce_floor else EVENT_IMPACT,
                     step,
                     time,
                     id_a,

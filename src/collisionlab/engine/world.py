@@ -331,7 +331,7 @@ class World:
             a, b_id = int(row[3]), int(row[4])
             names = self._pair_names(a, b_id)
             step, time = int(row[1]), row[2]
-            if row[0] == 1.0:
+            if row[0] == step_kernels.EVENT_SKIPPED:
                 self.record.skipped.append(SkippedContact(step, time, names, "separating"))
                 continue
             static = a < 0
@@ -359,6 +359,7 @@ class World:
                     velocities_after=after,
                     kinetic_energy_before=ke_before,
                     kinetic_energy_after=ke_after,
+                    below_rest_threshold=row[0] == step_kernels.EVENT_BELOW_REST,
                 )
             )
         self._stepper.release_events()
