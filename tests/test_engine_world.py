@@ -208,3 +208,22 @@ def test_allow_initial_overlap_must_be_true_or_false() -> None:
     text = '[simulation]\nallow_initial_overlap = "yes"\n[[body]]\nshape = "circle"\nposition = [0, 0]\nradius = 1\n'
     with pytest.raises(ScenarioError, match=r"^f\.toml: simulation\.allow_initial_overlap: must be true or false"):
         parse_scenario(tomllib.loads(text), "f.toml")
+
+
+def test_an_oblique_perfectly_inelastic_impact_is_one_kick() -> None:
+    # Found by hypothesis: after this e = 0 impact the approach speed left is rounding (-1.7e-17
+    # m/s); its impulse is below one ulp of the velocities, so kicking it again changes nothing and
+    # the stepper used to loop (122,910 impulses in one step). One impact, one kick.
+    # e = 0 along n: the normal velocities become the centre of mass's, (m_a v_a + m_b v_b) . n /
+    # (m_a + m_b); with n = (0.99499, 0, 0.1), v_a . n = 0.5 * 0.99499, v_b . n = -0.99499:
+    # v_n after = (0.125 * 0.497494 - 0.994987) / 1.125 = -0.829156 for both.
+    a = Body("a", Sphere((0, 0, 0), 0.5), velocity=(0.5, 0, 0), mass=0.125)
+    b = Body("b", Sphere((3, 0, 0.1), 0.5), velocity=(-1, 0, 0), mass=1.0)
+    world = World(Scenario(Settings(dt=0.01, steps=317, restitution=0.0, mode="exact"), (a, b), ()))
+    record = world.run()
+    assert len(record.events) == 1 and not record.warnings
+    assert int(world._stepper.status[1]) <= 2  # impulses applied in the whole run
+    n = record.events[0].normal
+    after = record.events[0].velocities_after
+    assert after["a"].dot(n) == pytest.approx(-0.829156, abs=1e-6)
+    assert after["b"].dot(n) == pytest.approx(-0.829156, abs=1e-6)
