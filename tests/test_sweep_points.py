@@ -1,18 +1,28 @@
-"""One point of a sweep: its row equals running the point alone with ``collisionlab run`` / ``gas``;
+"""One point of a sweep: its row equals running the point alone with ``collisionlab run`` / ``gas``
+(stepped or ``--mode exact``);
 an invalid point's row carries its error; the gas's compressibility against Carnahan-Starling."""
 
 from __future__ import annotations
 
+import io
+import json
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import pytest
 
+from collisionlab.cli import main
+from collisionlab.cli.streams import Streams
 from collisionlab.sweep.points import Task, run_point
 from collisionlab.sweep.spec import parse_sweep
 from collisionlab.sweep.theory import carnahan_starling, henderson
+from collisionlab.tolerances import ISCLOSE_REL_TOL
 
 from .cli_helpers import example, run_cli
+
+#: Dimensionless: rounding of a few operations (the library's relative closeness).
+ROUNDING = ISCLOSE_REL_TOL
 
 
 def test_a_scenario_row_equals_collisionlab_run() -> None:
@@ -112,3 +122,56 @@ def test_the_gas_compressibility_follows_carnahan_starling() -> None:
     row = run_point(task)
     assert row["compressibility"] == pytest.approx(carnahan_starling(0.2), rel=0.05)
     assert abs(row["energy_drift"]) < 1e-12  # elastic: the collisions counted conserve energy
+
+
+def exact_gas_alone(argv: list[str]) -> dict[str, Any]:
+    """``collisionlab gas --mode exact ...``'s JSON (gas.schema.json describes the stepped report
+    only, so this calls the CLI without run_cli's schema check)."""
+    streams = Streams(stdin=io.StringIO(), stdout=io.StringIO(), stderr=io.StringIO(), interactive=False)
+    assert main(argv, streams) == 0
+    report: dict[str, Any] = json.loads(streams.stdout.getvalue())  # type: ignore[attr-defined]
+    return report
+
+
+@pytest.mark.parametrize("boundary", ["periodic", "walls"])
+def test_an_exact_gas_row_equals_collisionlab_gas_mode_exact(boundary: str) -> None:
+    spec = parse_sweep(
+        tomllib.loads(
+            f"""
+[sweep]
+replicas = 2
+metrics = ["collisions", "wall_collisions", "events", "kt", "energy_drift", "collision_rate", "compressibility",
+           "compressibility_walls", "max_overlap", "kinetic_energy_start", "momentum_end"]
+[sweep.gas]
+mode = "exact"
+n = 64
+dim = 3
+boundary = "{boundary}"
+time = 2
+[sweep.parameters]
+"gas.fraction" = [0.25]
+"""
+        )
+    )
+    rows = [run_point(task) for task in spec.tasks()]
+    assert rows[0]["seed"] != rows[1]["seed"] and rows[0]["collisions"] != rows[1]["collisions"]
+    for row in rows:
+        argv = ["gas", "--mode", "exact", "--n", "64", "--dim", "3", "--boundary", boundary, "--time", "2"]
+        alone = exact_gas_alone([*argv, "--fraction", "0.25", "--seed", str(row["seed"]), "--format", "json"])
+        assert row["error"] == ""
+        for key in ("collisions", "wall_collisions", "events", "energy_drift", "collision_rate", "compressibility"):
+            assert row[key] == alone[key], key
+        assert row["kt"] == alone["kT"] and row["max_overlap"] == alone["max_overlap"]
+        assert row["compressibility_walls"] == alone.get("compressibility_walls")
+        assert (row["compressibility_walls"] is None) == (boundary == "periodic")
+        # kT = 1 at the end of an elastic run: the kinetic energy at the start is d N kT / 2 = 96
+        assert row["kinetic_energy_start"] == pytest.approx(96.0, rel=ROUNDING)
+        if boundary == "periodic":  # no walls: the momentum (zero at the start) stays zero
+            assert all(abs(row[f"momentum_end_{c}"]) < ROUNDING * 64 for c in "xyz")
+
+
+def test_an_invalid_exact_gas_point_reports_its_error() -> None:
+    data = {"mode": "exact", "n": 64, "dim": 3, "fraction": 0.8, "boundary": "periodic", "time": 1.0,
+            "restitution": 1.0, "gravity": 0.0}  # fmt: skip
+    row = run_point(Task(0, 0, 1, "gas", data, ("compressibility",)))
+    assert row["error"].startswith("fraction: must be below close packing") and row["compressibility"] is None

@@ -11,7 +11,12 @@ from pathlib import Path
 
 import pyarrow.parquet as pq
 
+from collisionlab.tolerances import ISCLOSE_REL_TOL
+
 from .cli_helpers import SCRIPT, example, finish, run_cli
+
+#: Diameters: an exact gas's overlap is rounding only (the library's relative closeness).
+ROUNDING = ISCLOSE_REL_TOL
 
 GAS = """
 [sweep]
@@ -71,6 +76,36 @@ def data_lines(path: Path) -> list[str]:
     if not path.exists():
         return []
     return [line for line in path.read_text().splitlines()[1:] if line]
+
+
+EXACT = """
+[sweep]
+replicas = 2
+metrics = ["collisions", "compressibility", "energy_drift", "max_overlap", "wall_time"]
+[sweep.gas]
+mode = "exact"
+n = 64
+dim = 3
+boundary = "periodic"
+time = 2
+[sweep.parameters]
+"gas.fraction" = [0.1, 0.3, 0.8]   # 0.8: above close packing, its rows say so
+"""
+
+
+def test_an_exact_gas_sweep_gives_the_same_table_on_one_and_two_workers(tmp_path: Path) -> None:
+    sweep = tmp_path / "exact.toml"
+    sweep.write_text(EXACT)
+    tables = []
+    for workers in ("1", "2"):
+        result = run_cli(["sweep", str(sweep), "--workers", workers, "--output", str(tmp_path / f"w{workers}")])
+        assert result.status == 0, result.err
+        tables.append(table_without_wall_time(tmp_path / f"w{workers}.parquet"))
+    assert tables[0] == tables[1]  # every bit of every row
+    bad = [r for r in tables[0] if r["gas.fraction"] == 0.8]
+    assert len(bad) == 2 and all(r["error"].startswith("fraction: must be below close packing") for r in bad)
+    good = [r for r in tables[0] if not r["error"]]
+    assert len(good) == 4 and all(r["collisions"] > 0 and r["max_overlap"] < ROUNDING for r in good)
 
 
 def test_an_interrupted_sweep_resumes_without_running_a_row_twice(tmp_path: Path) -> None:

@@ -104,6 +104,16 @@ def test_the_gas_takes_its_defaults_from_collisionlab_gas() -> None:
         )
     )
     assert spec.kind == "gas" and spec.base["n"] == 50 and spec.base["dim"] == 2 and spec.base["steps"] == 1000
+    assert spec.base["mode"] == "stepped"
+
+
+def test_the_exact_gas_takes_its_defaults_from_collisionlab_gas_mode_exact() -> None:
+    spec = parse_sweep(tomllib.loads(EXACT.replace("time = 1\n", "")))
+    assert spec.kind == "gas" and dict(spec.base) == {
+        "mode": "exact", "n": 64, "dim": 3, "fraction": 0.2, "boundary": "periodic", "time": 10.0,
+        "restitution": 1.0, "gravity": 0.0,
+    }  # fmt: skip
+    assert spec.tasks()[0].data["fraction"] == 0.1
 
 
 def test_seeds_depend_on_the_point_not_on_its_place() -> None:
@@ -123,12 +133,28 @@ def test_the_shipped_sweeps_read() -> None:
     ):
         spec = load_sweep(EXAMPLES / f"{name}.toml")
         assert spec.kind == kind and len(spec.tasks()) == rows
+    eos = load_sweep(EXAMPLES / "sweep-eos.toml").base
+    assert (eos["mode"], eos["boundary"], eos["dim"]) == ("exact", "periodic", 3)
 
 
 BASE = '[sweep]\ndemo = "sphere-plane"\nmetrics = ["collisions"]\n[sweep.parameters]\n"simulation.dt" = [0.01]\n'
 ZIPPED = BASE.replace("[0.01]", '[0, 1]\n"simulation.mode" = ["euler"]').replace(
     "[sweep]\n", '[sweep]\ncombine = "zip"\n'
 )
+
+
+EXACT = """
+[sweep]
+metrics = ["compressibility"]
+[sweep.gas]
+mode = "exact"
+n = 64
+dim = 3
+boundary = "periodic"
+time = 1
+[sweep.parameters]
+"gas.fraction" = [0.1]
+"""
 
 
 @pytest.mark.parametrize(
@@ -168,6 +194,19 @@ ZIPPED = BASE.replace("[0.01]", '[0, 1]\n"simulation.mode" = ["euler"]').replace
          "sweep.gas", "the base is invalid: n: must be a whole number >= 1"),
         ("[sweep]\nmetrics = [\"collisions\"]\n[sweep.gas]\n[sweep.parameters]\n\"simulation.dt\" = [1]\n",
          "simulation.dt", "expected gas.KEY"),
+        (EXACT.replace('mode = "exact"', 'mode = "events"'), "sweep.gas.mode", "must be one of 'stepped', 'exact'"),
+        (EXACT.replace("n = 64", "steps = 100"), "sweep.gas.steps", "unknown key for the exact gas"),
+        (EXACT.replace("n = 64", 'speeds = "equal"'), "sweep.gas.speeds", "unknown key for the exact gas"),
+        (EXACT.replace("n = 64", "seed = 4"), "sweep.gas.seed", "derived from sweep.seed"),
+        (EXACT.replace('"periodic"', '"torus"'), "sweep.gas", "the base is invalid: boundary: must be one of"),
+        (EXACT.replace("time = 1", "time = -1"), "sweep.gas", "the base is invalid: time: must be > 0"),
+        (EXACT.replace("time = 1", 'time = "long"'), "sweep.gas", "the base is invalid: time:"),
+        (EXACT.replace("n = 64", "n = 64\ntc = -0.5"), "sweep.gas", "the base is invalid: tc: must be >= 0"),
+        (EXACT.replace("n = 64", "n = 4"), "sweep.gas", "the base is invalid: fraction: too dense"),
+        (EXACT.replace('"gas.fraction"', '"gas.steps"'), "gas.steps", "expected gas.KEY"),
+        (EXACT.replace('"gas.fraction" = [0.1]', '"gas.mode" = ["stepped"]'), "gas.mode", "set in [sweep.gas]"),
+        (EXACT.replace('["compressibility"]', '["ledger"]'), "sweep.metrics[0]", "unknown for the exact gas"),
+        (EXACT.replace("\n[sweep.gas]\nmode", "\n[sweep.gas]\nkt = 1\nmode"), "sweep.gas.kt", "unknown key"),
     ],
 )  # fmt: skip
 def test_bad_sweep_files_fail_in_one_line_naming_the_field(tmp_path: Path, text: str, field: str, words: str) -> None:

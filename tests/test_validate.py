@@ -28,6 +28,7 @@ from collisionlab import (
     resolve_collision,
     separate,
 )
+from collisionlab.model import Body
 from collisionlab.validate import finite_number, non_negative, positive, positive_or_inf, whole_number
 from collisionlab.vector import as_vector
 
@@ -40,7 +41,7 @@ _COLLINEAR_SETS: dict[str, tuple[tuple[float, ...], ...]] = {
     "diagonal": ((0, 0, 0), (1, 1, 1), (2, 2, 2)),
     "generic": ((1, 2, 3), (1.5, 1, 5), (2.5, -1, 9)),  # a, a + d, a + 3d with d = (0.5, -1, 2)
     "far-from-origin": ((1e3 + 1, 1e3 + 2, 1e3 + 3), (1e3 + 2, 1e3 + 4, 1e3 + 6), (1e3 + 4, 1e3 + 8, 1e3 + 12)),
-    "2d": ((0, 0), (1, 0), (5, 0)),
+    "on-the-x-axis": ((0, 0, 0), (1, 0, 0), (5, 0, 0)),
     "two-coincident": ((1, 2, 3), (1, 2, 3), (4, 5, 6)),
     "all-coincident": ((1, 2, 3), (1, 2, 3), (1, 2, 3)),
 }
@@ -229,3 +230,41 @@ def test_error_renamed_keeps_problem() -> None:
     renamed = error.renamed("bodies[0].radius")
     assert renamed.field == "bodies[0].radius"
     assert str(renamed) == "bodies[0].radius: must be > 0 (got -1.0)"
+
+
+# --- component counts: a 3D shape needs (x, y, z); a 2D shape takes (x, y) or (x, y, 0) -------------
+@pytest.mark.parametrize(
+    ("call", "field", "words"),
+    [
+        (lambda: Sphere((1, 2), 1), "center", "a sphere needs three numbers (x, y, z), not 2"),
+        (lambda: Sphere(np.array([1.0, 2.0]), 1), "center", "a sphere needs three numbers"),
+        (lambda: Sphere((1, 2, 3, 4), 1), "center", "a sphere needs three numbers (x, y, z), not 4"),
+        (lambda: Plane((0, 0), (0, 1)), "point", "a plane needs three numbers"),
+        (lambda: Plane((0, 0, 0), (0, 1)), "normal", "a plane needs three numbers"),
+        (lambda: Plane.from_points((0, 0, 0), (1, 0), (0, 1, 0)), "points[1]", "a plane needs three numbers"),
+        (lambda: AABB((0, 0), (1, 1, 1)), "min_corner", "a 3D box needs three numbers"),
+        (lambda: AABB((0, 0, -1), (1, 1)), "max_corner", "a 3D box needs three numbers"),
+        (lambda: AABB.from_center_size((0, 0), (1, 1, 1)), "center", "a 3D box needs three numbers"),
+        (lambda: Body("b", Sphere((0, 0, 0), 1), velocity=(0, -1)), "velocity", "a sphere needs three numbers"),
+        (lambda: Body("b", AABB((0, 0, 0), (1, 1, 1)), velocity=[1, 0]), "velocity", "a 3D box needs three"),
+        (lambda: Circle((1, 2, 3), 1), "center", "x-y plane"),  # a 2D shape's third number must be 0
+    ],
+)
+def test_a_raw_vector_with_the_wrong_count_is_refused_naming_the_field(
+    call: Callable[[], object], field: str, words: str
+) -> None:
+    with pytest.raises(InvalidInputError) as info:
+        call()
+    assert info.value.field == field and words in str(info.value)
+    assert str(info.value).startswith(f"{field}: ") and "\n" not in str(info.value)
+
+
+def test_a_vector3d_is_taken_as_it_is_and_2d_shapes_take_a_zero_z() -> None:
+    assert Sphere(Vector3D(1, 2), 1).center == Vector3D(1, 2, 0)
+    assert Body("b", Sphere((0, 0, 0), 1), velocity=Vector3D(0, -1)).velocity == Vector3D(0, -1, 0)
+    assert Plane(Vector3D(0, 0), Vector3D(0, 1)).unit_normal == Vector3D(0, 1, 0)
+    assert Circle((1, 2, 0), 1).center == Circle((1, 2), 1).center == Vector3D(1, 2, 0)
+    assert Line((0, 0, 0), (1, 0, 0)) == Line((0, 0), (1, 0))
+    assert AABB((0, 0), (1, 1, 0)).dim == 2 and AABB.from_center_size((0, 0, 0), (2, 2)).dim == 2
+    assert Body("c", Circle((0, 0), 1), velocity=(1, 0, 0)).velocity == Body("c", Circle((0, 0), 1), (1, 0)).velocity
+    assert Body("d", AABB((0, 0), (1, 1)), velocity=(1, 0)).velocity == Vector3D(1, 0, 0)

@@ -14,7 +14,7 @@ from .limits import check_scenario
 from .narrowphase import separation
 from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive, positive_or_inf, printable, whole_number
-from .vector import Vector3D, as_vector
+from .vector import Vector3D, as_vector, as_vector_3d
 
 __all__ = ["Body", "BodyShape", "Mode", "Obstacle", "ObstacleShape", "Scenario", "Settings"]
 
@@ -35,7 +35,10 @@ class Body:
     ``math.inf`` is a kinematic body: it moves at its own velocity, pushes others and is never
     pushed (gravity does not act on it).
 
-    ``restitution`` overrides the scenario's default for collisions of this body.
+    ``restitution`` overrides the scenario's default for collisions of this body. ``velocity``
+    has as many numbers as the shape's vectors: three for a sphere or a 3D box (``(0, -1)`` is
+    refused, never padded), ``(x, y)`` or ``(x, y, 0)`` for a circle or a 2D box; a ``Vector3D``
+    is taken as it is.
     """
 
     name: str
@@ -47,7 +50,12 @@ class Body:
     def __post_init__(self) -> None:
         if not isinstance(self.shape, (Circle, Sphere, AABB)):
             raise InvalidInputError("shape", "a moving body must be a circle, a sphere or an AABB")
-        object.__setattr__(self, "velocity", as_vector(self.velocity, "velocity"))
+        if _planar(self.shape):  # (x, y) or (x, y, 0), as the shape's own vectors
+            velocity = as_vector(self.velocity, "velocity")
+        else:  # a sphere or a 3D box: (x, y, z), never padded
+            owner = "a sphere" if isinstance(self.shape, Sphere) else "a 3D box"
+            velocity = as_vector_3d(self.velocity, "velocity", owner)
+        object.__setattr__(self, "velocity", velocity)
         object.__setattr__(self, "mass", positive_or_inf(self.mass, "mass"))
         if self.restitution is not None:
             object.__setattr__(self, "restitution", non_negative(self.restitution, "restitution"))

@@ -2,9 +2,15 @@
 
 Moving shapes are :class:`Circle` (2D, in the x-y plane), :class:`Sphere` and :class:`AABB`
 (2D or 3D); boundaries are :class:`Line` (2D, infinite) and :class:`Plane` (infinite). Every
-constructor accepts a :class:`~collisionlab.vector.Vector3D` or a list or numpy array of 2 or 3
-numbers where a vector is expected, and numpy scalars (or 0-d arrays) where a number is; it
-raises :class:`~collisionlab.errors.InvalidInputError` naming the field. Every shape has the
+constructor accepts a :class:`~collisionlab.vector.Vector3D` or a list or numpy array of numbers
+where a vector is expected, and numpy scalars (or 0-d arrays) where a number is; it raises
+:class:`~collisionlab.errors.InvalidInputError` naming the field.
+
+Component counts, as in scenario files: a 3D shape (a sphere, a plane, a 3D box) needs three
+numbers ``(x, y, z)``; two are refused, never padded with ``z = 0``. A 2D shape (a circle, a
+line, a 2D box) takes ``(x, y)`` or ``(x, y, 0)``: a third number is accepted when it is 0 (any
+other z is refused, the shape lives in the x-y plane). A ``Vector3D`` always has three components
+and is taken as it is. Every shape has the
 queries as methods: ``a.intersects(b)``, ``a.contact(b)``, ``a.distance(b)``.
 """
 
@@ -16,7 +22,7 @@ from typing import TYPE_CHECKING, cast
 from .errors import InvalidInputError
 from .tolerances import COLLINEAR_SINE
 from .validate import positive
-from .vector import Vector3D, VectorLike, as_vector
+from .vector import Vector3D, VectorLike, as_vector, as_vector_3d
 
 if TYPE_CHECKING:
     from .contact import Contact
@@ -76,6 +82,17 @@ def _vector(owner: object, name: str, value: object) -> Vector3D:
     return vector
 
 
+def _vector_3d(owner: object, name: str, value: object, what: str) -> Vector3D:
+    vector = as_vector_3d(value, name, what)
+    object.__setattr__(owner, name, vector)
+    return vector
+
+
+def _given_2d(value: object) -> bool:
+    """Whether ``value`` (already a valid vector) was given as two raw numbers (not a ``Vector3D``)."""
+    return not isinstance(value, Vector3D) and len(value) == 2  # type: ignore[arg-type]
+
+
 def _require_planar(value: Vector3D, field: str) -> None:
     if value.z != 0.0:
         raise InvalidInputError(field, "must lie in the x-y plane (z = 0) for a 2D shape", got=value.as_tuple())
@@ -106,17 +123,21 @@ class Circle(_Queries):
 
 @dataclass(frozen=True, slots=True)
 class Sphere(_Queries):
-    """A sphere.
+    """A sphere; its ``center`` needs three numbers.
 
     >>> Sphere((0, 0, 1), 2).radius
     2.0
+    >>> Sphere((1, 2), 1)
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: center: a sphere needs three numbers (x, y, z), not 2 (got (1, 2))
     """
 
     center: Vector3D
     radius: float
 
     def __post_init__(self) -> None:
-        _vector(self, "center", self.center)
+        _vector_3d(self, "center", self.center, "a sphere")
         object.__setattr__(self, "radius", positive(self.radius, "radius"))
 
     def moved_to(self, center: Vector3D) -> Sphere:
@@ -128,7 +149,8 @@ class AABB(_Queries):
     """An axis-aligned box given by two opposite corners (lab eqs. 4 and 5).
 
     The box is 2D when both corners have ``z == 0`` (a box with no extent in z at z = 0, which is
-    what 2-component corners give); otherwise it is 3D. ``min_corner <= max_corner`` on every
+    what 2-component corners give); otherwise it is 3D, and then each corner needs three numbers
+    (a 2-number corner of a 3D box is refused, never padded). ``min_corner <= max_corner`` on every
     axis; equal bounds (a flat box) are allowed.
 
     >>> box = AABB.from_center_size((0, 0, 0), (2, 4, 6))
@@ -146,8 +168,13 @@ class AABB(_Queries):
     max_corner: Vector3D
 
     def __post_init__(self) -> None:
+        given = {"min_corner": self.min_corner, "max_corner": self.max_corner}
         low = _vector(self, "min_corner", self.min_corner)
         high = _vector(self, "max_corner", self.max_corner)
+        if low.z != 0.0 or high.z != 0.0:  # a 3D box
+            for name, value in given.items():
+                if _given_2d(value):
+                    raise InvalidInputError(name, "a 3D box needs three numbers (x, y, z), not 2", got=value)
         for axis, lo, hi in zip("xyz", low, high, strict=True):
             if hi < lo:
                 raise InvalidInputError("max_corner", f"must be >= min_corner on every axis; {axis} is {hi!r} < {lo!r}")
@@ -167,8 +194,9 @@ class AABB(_Queries):
         c = as_vector(center, "center")
         s = as_vector(size, "size")
         sizes = list(s)
-        given_2d = not isinstance(size, Vector3D) and len(size) == 2
-        is_2d = s.z == 0.0 and (given_2d or c.z == 0.0)
+        is_2d = s.z == 0.0 and (_given_2d(size) or c.z == 0.0)
+        if not is_2d and _given_2d(center):
+            raise InvalidInputError("center", "a 3D box needs three numbers (x, y, z), not 2", got=center)
         for axis, edge in zip("xyz", sizes[: 2 if is_2d else 3], strict=False):
             positive(edge, f"size.{axis}")
         if is_2d:
@@ -229,7 +257,8 @@ class Line(_Queries):
 
 @dataclass(frozen=True, slots=True)
 class Plane(_Queries):
-    """An infinite plane through ``point`` with normal ``normal`` (lab part IV.B).
+    """An infinite plane through ``point`` with normal ``normal`` (lab part IV.B); each needs
+    three numbers.
 
     >>> Plane.from_points((0, 0, 0), (1, 0, 0), (0, 0, 1)).unit_normal
     Vector3D(x=0.0, y=-1.0, z=0.0)
@@ -243,8 +272,8 @@ class Plane(_Queries):
     normal: Vector3D
 
     def __post_init__(self) -> None:
-        _vector(self, "point", self.point)
-        _vector(self, "normal", self.normal).normalized("normal")
+        _vector_3d(self, "point", self.point, "a plane")
+        _vector_3d(self, "normal", self.normal, "a plane").normalized("normal")
 
     @property
     def unit_normal(self) -> Vector3D:
@@ -266,9 +295,9 @@ class Plane(_Queries):
         ...
         collisionlab.errors.InvalidInputError: points: the three points must not be collinear or coincident
         """
-        pa = as_vector(a, "points[0]")
-        pb = as_vector(b, "points[1]")
-        pc = as_vector(c, "points[2]")
+        pa = as_vector_3d(a, "points[0]", "a plane")
+        pb = as_vector_3d(b, "points[1]", "a plane")
+        pc = as_vector_3d(c, "points[2]", "a plane")
         ab = pb - pa
         ac = pc - pa
         normal = ab.cross(ac)

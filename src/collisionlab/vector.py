@@ -25,7 +25,7 @@ from .textformat import format_float
 from .tolerances import ISCLOSE_REL_TOL
 from .validate import finite_number
 
-__all__ = ["Vector3D", "VectorLike", "as_vector"]
+__all__ = ["Vector3D", "VectorLike", "as_vector", "as_vector_3d"]
 
 
 @dataclass(frozen=True, slots=True, init=False, repr=False)
@@ -332,16 +332,42 @@ like [x, y] or [x, y, z] (got (1, 2, 3, 4))
     return Vector3D(*as_vector_components(value, field))
 
 
-def as_vector_components(value: object, field: str) -> tuple[float, float, float]:
-    """The three finite components of a sequence or array of 2 or 3 numbers (z = 0 for 2)."""
+def as_vector_3d(value: object, field: str, owner: str) -> Vector3D:
+    """A :class:`Vector3D` for a 3D shape (``owner``: "a sphere"): a ``Vector3D`` as it is, or a
+    sequence (or array) of exactly three finite numbers; two are refused, never padded with z = 0.
+
+    >>> as_vector_3d((1, 2, 3), "center", "a sphere")
+    Vector3D(x=1.0, y=2.0, z=3.0)
+    >>> as_vector_3d((1, 2), "center", "a sphere")
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.InvalidInputError: center: a sphere needs three numbers (x, y, z), \
+not 2 (got (1, 2))
+    """
     if isinstance(value, Vector3D):
-        return (value.x, value.y, value.z)
+        return value
+    sequence = _sequence(value, field)
+    if len(sequence) != 3:
+        raise InvalidInputError(field, f"{owner} needs three numbers (x, y, z), not {len(sequence)}", got=value)
+    return Vector3D(*as_vector_components(sequence, field))
+
+
+def _sequence(value: object, field: str) -> Sequence[object]:
+    """``value`` as a sequence (numpy arrays and other array-likes as lists), or refused."""
     if isinstance(value, np.ndarray):
-        value = value.tolist()  # plain floats (nested lists for a 2-D array, refused below)
+        value = value.tolist()  # plain floats (nested lists for a 2-D array, refused later)
     elif not isinstance(value, (str, bytes, Sequence)) and hasattr(value, "__len__") and hasattr(value, "__getitem__"):
         value = list(value)  # type: ignore[call-overload]  # other array-likes
     if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
         raise InvalidInputError(field, "must be a list of 2 or 3 numbers, like [x, y, z]", got=value)
+    return value
+
+
+def as_vector_components(value: object, field: str) -> tuple[float, float, float]:
+    """The three finite components of a sequence or array of 2 or 3 numbers (z = 0 for 2)."""
+    if isinstance(value, Vector3D):
+        return (value.x, value.y, value.z)
+    value = _sequence(value, field)
     if len(value) not in (2, 3):
         raise InvalidInputError(field, "must have 2 or 3 components, like [x, y] or [x, y, z]", got=value)
     components = [finite_number(c, f"{field}[{i}]") for i, c in enumerate(value)]

@@ -3,8 +3,10 @@
 The only module of the sweep that calls the simulation, and only through the public API:
 :func:`collisionlab.scenario_file.parse_scenario` and :func:`collisionlab.world.simulate` for a
 scenario, :func:`collisionlab.particles.gas_scenario` and
-:meth:`~collisionlab.particles.ParticleWorld.step` for the gas, exactly as ``collisionlab run``
-and ``collisionlab gas`` do, so a row equals running its point alone.
+:meth:`~collisionlab.particles.ParticleWorld.step` for the time-stepped gas, and
+:class:`collisionlab.edmd.observables.ExactGas` and :func:`~collisionlab.edmd.observables.run_exact_gas`
+for the exact (event-driven) gas (``mode = "exact"``), exactly as ``collisionlab run``,
+``collisionlab gas`` and ``collisionlab gas --mode exact`` do, so a row equals running its point alone.
 
 Everything here is a pure function of the :class:`Task` (its seed included): nothing depends on
 the worker, the process, or the order the tasks run in.
@@ -16,7 +18,7 @@ import math
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,9 +29,17 @@ from ..scenario_file import parse_scenario
 from ..world import simulate
 from .theory import compressibility_from_collisions
 
+if TYPE_CHECKING:  # the exact gas (and numba) load only when a sweep runs it
+    from ..edmd.observables import ExactGas
+    from ..edmd.world import EventDrivenWorld
+
 __all__ = [
+    "EXACT_GAS_DEFAULTS",
+    "EXACT_GAS_KEYS",
+    "EXACT_GAS_METRICS",
     "GAS_DEFAULTS",
     "GAS_METRICS",
+    "GAS_MODES",
     "SCENARIO_METRICS",
     "Task",
     "check_base",
@@ -37,10 +47,11 @@ __all__ = [
     "run_point",
 ]
 
-#: The gas's parameters (``[sweep.gas]`` and ``gas.KEY`` paths) and their defaults, those of
+#: The time-stepped gas's parameters (``[sweep.gas]`` and ``gas.KEY`` paths) and their defaults, those of
 #: ``collisionlab gas``; ``fraction``, ``radius`` and ``step_fraction`` are
 #: :func:`~collisionlab.particles.gas_scenario`'s.
 GAS_DEFAULTS: dict[str, Any] = {
+    "mode": "stepped",
     "n": 10_000,
     "dim": 2,
     "steps": 1000,
@@ -52,6 +63,24 @@ GAS_DEFAULTS: dict[str, Any] = {
     "radius": 1.0,
     "step_fraction": 0.1,
 }
+
+#: ``[sweep.gas] mode``: the time-stepped gas (default) or the exact, event-driven one.
+GAS_MODES = ("stepped", "exact")
+
+#: The exact gas's parameters (``mode = "exact"``) and their defaults, those of ``collisionlab gas
+#: --mode exact`` (:class:`~collisionlab.edmd.observables.ExactGas`); the seed is the row's.
+EXACT_GAS_DEFAULTS: dict[str, Any] = {
+    "mode": "exact",
+    "n": 10_000,
+    "dim": 2,
+    "fraction": 0.2,
+    "boundary": "walls",
+    "time": 10.0,
+    "restitution": 1.0,
+    "gravity": 0.0,
+}
+#: Its keys: the defaults' and ``tc`` (``--tc``; absent: the exact gas's own default).
+EXACT_GAS_KEYS: tuple[str, ...] = (*EXACT_GAS_DEFAULTS, "tc")
 
 _VECTOR = ("x", "y", "z")
 
@@ -91,6 +120,27 @@ GAS_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
 }
 
 
+#: The same for the exact gas (``collisionlab gas --mode exact``'s report): ``max_overlap`` in
+#: diameters, ``kt`` the temperature at the end, ``compressibility_walls`` from the momentum given
+#: to the walls (empty with a periodic box), ``events`` every event handled.
+EXACT_GAS_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
+    "collisions": (("collisions", "int"),),
+    "wall_collisions": (("wall_collisions", "int"),),
+    "events": (("events", "int"),),
+    "kinetic_energy_start": (("kinetic_energy_start", "float"),),
+    "kinetic_energy_end": (("kinetic_energy_end", "float"),),
+    "energy_drift": (("energy_drift", "float"),),
+    "momentum_start": tuple((f"momentum_start_{c}", "float") for c in _VECTOR),
+    "momentum_end": tuple((f"momentum_end_{c}", "float") for c in _VECTOR),
+    "kt": (("kt", "float"),),
+    "collision_rate": (("collision_rate", "float"),),
+    "compressibility": (("compressibility", "float"),),
+    "compressibility_walls": (("compressibility_walls", "float"),),
+    "max_overlap": (("max_overlap", "float"),),
+    "wall_time": (("wall_time", "float"),),
+}
+
+
 @dataclass(frozen=True)
 class Task:
     """One row to compute: point ``point``, replica ``replica``, with the base's data already
@@ -114,7 +164,7 @@ def metric_columns(kind: str, metrics: tuple[str, ...]) -> list[tuple[str, str]]
     >>> metric_columns("scenario", ("collisions", "momentum_end"))[:2]
     [('collisions', 'int'), ('momentum_end_x', 'float')]
     """
-    registry = GAS_METRICS if kind == "gas" else SCENARIO_METRICS
+    registry = {**GAS_METRICS, **EXACT_GAS_METRICS} if kind == "gas" else SCENARIO_METRICS
     return [column for name in metrics for column in registry[name]]
 
 
@@ -204,8 +254,8 @@ def _run_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
         **_vector("momentum_start", momentum_start),
         **_vector("momentum_end", world.momentum()),
         "collision_rate": 2.0 * report.body_collisions / (world.n * dt * steps),
-        # Today's gas is time-stepped: Z from the collision rate (theory.py). An exact, event-driven
-        # gas reports its own; only this line changes.
+        # Time-stepped: Z from the collision rate (theory.py); the exact gas (mode = "exact",
+        # _run_exact_gas) reports the collision virial instead.
         "compressibility": compressibility_from_collisions(
             report.body_collisions, world.n, world.dim, 2.0 * radius, dt * steps, (energy_start + energy_end) / 2
         ),
@@ -214,10 +264,62 @@ def _run_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
     }
 
 
+# --- the exact gas ------------------------------------------------------------------------------
+def _exact_gas(data: Mapping[str, Any], seed: int) -> ExactGas:
+    """The exact gas ``collisionlab gas --mode exact --seed SEED`` builds from these parameters."""
+    from ..edmd.observables import ExactGas
+
+    return ExactGas(
+        n=data["n"],
+        dim=data["dim"],
+        fraction=data["fraction"],
+        boundary=data["boundary"],
+        time=data["time"],
+        seed=seed,
+        restitution=data["restitution"],
+        gravity=data["gravity"],
+        tc=data.get("tc"),
+    ).checked()
+
+
+def _momentum(world: EventDrivenWorld) -> list[float]:
+    return [world.mass * float(p) for p in world.velocities.sum(axis=0)]
+
+
+def _run_exact_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
+    from ..edmd.observables import run_exact_gas
+
+    gas = _exact_gas(data, seed)
+    world = gas.world()  # compiling the loop (first task of a worker) is not the point's time
+    kinetic_start, momentum_start = world.kinetic_energy(), _momentum(world)
+    report = run_exact_gas(gas, world=world)
+    return {
+        "collisions": report["collisions"],
+        "wall_collisions": report["wall_collisions"],
+        "events": report["events"],
+        "kinetic_energy_start": kinetic_start,
+        "kinetic_energy_end": world.kinetic_energy(),
+        "energy_drift": report["energy_drift"],
+        **_vector("momentum_start", momentum_start),
+        **_vector("momentum_end", _momentum(world)),
+        "kt": report["kT"],
+        "collision_rate": report["collision_rate"],
+        "compressibility": report["compressibility"],  # the collision virial: exact, no time step
+        "compressibility_walls": report.get("compressibility_walls"),
+        "max_overlap": report["max_overlap"],
+        "wall_time": report["seconds"],
+    }
+
+
 # --- the entry points ---------------------------------------------------------------------------
 def check_base(kind: str, data: Mapping[str, Any]) -> None:
     """Raise :class:`InvalidInputError` if the base itself (before any point's change) is invalid."""
-    if kind == "gas":
+    if kind == "gas" and data.get("mode") == "exact":
+        from ..edmd.start import lattice
+
+        gas = _exact_gas(data, 0)
+        lattice(gas.n, gas.dim, gas.fraction, gas.radius, gas.boundary == "periodic", 0)  # the start fits
+    elif kind == "gas":
         _gas_world(data, 0)
     else:
         parse_scenario(data, "scenario")
@@ -229,7 +331,12 @@ def run_point(task: Task) -> dict[str, Any]:
     row: dict[str, Any] = {"point": task.point, "replica": task.replica, "seed": task.seed, "error": ""}
     columns = metric_columns(task.kind, task.metrics)
     try:
-        values = _run_gas(task.data, task.seed) if task.kind == "gas" else _run_scenario(task.data)
+        if task.kind != "gas":
+            values = _run_scenario(task.data)
+        elif task.data.get("mode") == "exact":
+            values = _run_exact_gas(task.data, task.seed)
+        else:
+            values = _run_gas(task.data, task.seed)
     except InvalidInputError as error:
         row["error"] = f"{error.field}: {error.problem}" + (f" (got {error.got!r})" if error.got is not None else "")
         values = {}

@@ -23,8 +23,10 @@ gets, and the metrics to keep::
 
 Paths: ``simulation.KEY``, ``body.NAME.KEY`` and ``static.NAME.KEY`` (NAME is the body's name or
 its index in the file, from 0), with an optional ``.x``/``.y``/``.z`` to vary one component of a
-vector; ``gas.KEY`` for the gas. Every problem is a :class:`SweepError` naming the file and the
-field, in one line.
+vector; ``gas.KEY`` for the gas. The gas is time-stepped (``collisionlab gas``) unless its table
+says ``mode = "exact"`` (``collisionlab gas --mode exact``: event-driven, with its own keys, see
+:data:`.points.EXACT_GAS_KEYS`); the mode itself cannot be varied. Every problem is a
+:class:`SweepError` naming the file and the field, in one line.
 """
 
 from __future__ import annotations
@@ -44,7 +46,17 @@ from typing import Any
 from ..demos import demo_names, demo_text
 from ..errors import CollisionLabError, InvalidInputError
 from ..scenario_file import SCENARIO_FIELDS
-from .points import GAS_DEFAULTS, GAS_METRICS, SCENARIO_METRICS, Task, check_base
+from .points import (
+    EXACT_GAS_DEFAULTS,
+    EXACT_GAS_KEYS,
+    EXACT_GAS_METRICS,
+    GAS_DEFAULTS,
+    GAS_METRICS,
+    GAS_MODES,
+    SCENARIO_METRICS,
+    Task,
+    check_base,
+)
 
 __all__ = ["MAX_ROWS", "Parameter", "Point", "SweepError", "SweepSpec", "Value", "load_sweep", "parse_sweep"]
 
@@ -225,9 +237,13 @@ def _target(
     if len(parts) > 2 and parts[-1] in _COMPONENTS:
         component = _COMPONENTS[parts.pop()]
     if kind == "gas":
-        if parts[0] != "gas" or len(parts) != 2 or parts[1] not in GAS_DEFAULTS or component is not None:
+        exact = data.get("mode") == "exact"
+        allowed_keys = [k for k in (EXACT_GAS_KEYS if exact else GAS_DEFAULTS) if k != "mode"]
+        if parts[0] != "gas" or len(parts) != 2 or parts[1] not in allowed_keys or component is not None:
+            which = 'the exact gas (mode = "exact")' if exact else "the gas"
+            hint = " (the mode is set in [sweep.gas], not varied)" if path == "gas.mode" else ""
             raise SweepError(
-                source, field, f"the base is the gas: expected gas.KEY, KEY one of {', '.join(GAS_DEFAULTS)}"
+                source, field, f"the base is {which}: expected gas.KEY, KEY one of {', '.join(allowed_keys)}{hint}"
             )
         return (parts[1],), None
     forms = "simulation.KEY, body.NAME.KEY, static.NAME.KEY or gas.NAME.KEY (with .x, .y or .z for one component)"
@@ -296,13 +312,19 @@ def _base(source: str, sweep: Mapping[str, Any], folder: Path) -> tuple[str, dic
         table = sweep["gas"]
         if not isinstance(table, Mapping):
             raise SweepError(source, "sweep.gas", "must be a table of the gas's parameters")
+        mode = table.get("mode", "stepped")
+        if mode not in GAS_MODES:
+            raise SweepError(source, "sweep.gas.mode", f"must be one of {', '.join(map(repr, GAS_MODES))}", got=mode)
+        exact = mode == "exact"
+        keys, defaults = (EXACT_GAS_KEYS, EXACT_GAS_DEFAULTS) if exact else (tuple(GAS_DEFAULTS), GAS_DEFAULTS)
         for key in table:
-            if key not in GAS_DEFAULTS:
+            if key not in keys:
                 hint = " (each row's seed is derived from sweep.seed)" if key == "seed" else ""
+                which = 'the exact gas (mode = "exact")' if exact else 'the stepped gas (mode = "stepped")'
                 raise SweepError(
-                    source, f"sweep.gas.{key}", f"unknown key; expected one of {', '.join(GAS_DEFAULTS)}{hint}"
+                    source, f"sweep.gas.{key}", f"unknown key for {which}; expected one of {', '.join(keys)}{hint}"
                 )
-        return "gas", {**GAS_DEFAULTS, **table}
+        return "gas", {**defaults, **table}
     if given[0] == "demo":
         name = sweep["demo"]
         if name not in demo_names():
@@ -327,8 +349,8 @@ def _whole(source: str, sweep: Mapping[str, Any], key: str, default: int, minimu
     return value
 
 
-def _metrics(source: str, sweep: Mapping[str, Any], kind: str) -> tuple[str, ...]:
-    known = GAS_METRICS if kind == "gas" else SCENARIO_METRICS
+def _metrics(source: str, sweep: Mapping[str, Any], kind: str, exact: bool = False) -> tuple[str, ...]:
+    known = (EXACT_GAS_METRICS if exact else GAS_METRICS) if kind == "gas" else SCENARIO_METRICS
     given = sweep.get("metrics")
     if given is None:
         raise SweepError(source, "sweep.metrics", f"is missing; a list of: {', '.join(known)}")
@@ -336,7 +358,7 @@ def _metrics(source: str, sweep: Mapping[str, Any], kind: str) -> tuple[str, ...
         raise SweepError(source, "sweep.metrics", f"must be a non-empty list of names: {', '.join(known)}", got=given)
     for index, name in enumerate(given):
         if name not in known:
-            base = "the gas" if kind == "gas" else "a scenario"
+            base = ('the exact gas (mode = "exact")' if exact else "the gas") if kind == "gas" else "a scenario"
             raise SweepError(
                 source, f"sweep.metrics[{index}]", f"unknown for {base}; expected one of {', '.join(known)}", got=name
             )
@@ -389,7 +411,7 @@ def parse_sweep(data: Mapping[str, Any], source: str = "<sweep>", folder: Path =
         raise SweepError(source, "sweep.combine", "must be 'grid' or 'zip'", got=combine)
     replicas = _whole(source, sweep, "replicas", 1, 1)
     seed = _whole(source, sweep, "seed", 0, 0)
-    metrics = _metrics(source, sweep, kind)
+    metrics = _metrics(source, sweep, kind, exact=kind == "gas" and base["mode"] == "exact")
     plot = sweep.get("plot", {})
     if not isinstance(plot, Mapping) or any(k not in ("x", "y") for k in plot):
         raise SweepError(source, "sweep.plot", "must be a table with x (a parameter) and y (a metric)", got=plot)
