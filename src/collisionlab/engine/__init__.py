@@ -9,7 +9,8 @@
 * :mod:`.compiled` - the same kernels compiled by numba, for large worlds.
 * :mod:`.stepper` - :class:`~.stepper.EulerStepper`: what a Forward Euler run keeps between
   calls (scratch, the pairs in contact, buffers) and the one call that advances it.
-* :mod:`.exact` - the exact stepper (time of impact within each step; pure Python for now).
+* :mod:`.exact_kernels` - the exact stepper over the same arrays (times of impact within each
+  step, earliest first from an event calendar); :mod:`.exact_stepper` keeps its state between calls.
 * :mod:`.world` - :class:`World`: owns the state, steps it either way, records what happened.
 """
 
