@@ -12,7 +12,7 @@ import jsonschema
 import numpy as np
 import pytest
 
-from collisionlab import AABB, Circle, Sphere
+from collisionlab import AABB, Circle, Line, Sphere
 from collisionlab.engine.params import WorldParams
 from collisionlab.model import Body, Obstacle, Scenario, Settings
 from collisionlab.record import RunRecord
@@ -227,3 +227,55 @@ def test_an_oblique_perfectly_inelastic_impact_is_one_kick() -> None:
     after = record.events[0].velocities_after
     assert after["a"].dot(n) == pytest.approx(-0.829156, abs=1e-6)
     assert after["b"].dot(n) == pytest.approx(-0.829156, abs=1e-6)
+
+
+class _Collector:
+    """A RunObserver that keeps what it is told, in order."""
+
+    def __init__(self) -> None:
+        self.told: list[tuple[str, object]] = []
+
+    def begin(self, record: RunRecord) -> None:
+        self.told.append(("begin", record.title))
+
+    def frame(self, frame: object) -> None:
+        self.told.append(("frame", frame))
+
+    def events(self, events: list[object], skipped: list[object], reached: int) -> None:
+        self.told += [("event", e) for e in events] + [("skipped", s) for s in skipped]
+
+    def warning(self, text: str) -> None:
+        self.told.append(("warning", text))
+
+    def end(self, record: RunRecord) -> None:
+        self.told.append(("end", record.collision_total))
+
+
+def _newtons_cradle() -> Scenario:
+    # Five balls in a row, the first moving: e = 1 passes the blow down the row every time the
+    # ends meet the walls; many events over a long run.
+    balls = [Body(f"b{i}", Circle((2.0 * i, 0), 1), velocity=(3 if i == 0 else 0, 0)) for i in range(5)]
+    walls = [Obstacle("left", Line((-5, 0), (0, 1))), Obstacle("right", Line((13, 0), (0, 1)))]
+    return Scenario(Settings(dt=0.01, steps=2000, restitution=1.0), tuple(balls), tuple(walls))
+
+
+@pytest.mark.parametrize("mode", ["euler", "exact"])
+def test_a_streamed_run_tells_everything_and_keeps_nothing(mode: str) -> None:
+    scenario = _newtons_cradle().with_settings(mode=mode)
+    kept = World(scenario).run(every=10)
+    collector = _Collector()
+    streamed = World(scenario).run(every=10, observer=collector, keep=False)
+    # Nothing held but the first and latest frames: memory does not grow with the run.
+    assert streamed.events == [] and len(streamed.frames) == 2
+    assert streamed.collision_total == kept.collision_total == len(kept.events) > 10
+    assert [e for kind, e in collector.told if kind == "event"] == kept.events
+    assert [f for kind, f in collector.told if kind == "frame"] == kept.frames
+    assert collector.told[0] == ("begin", scenario.title) and collector.told[-1] == ("end", len(kept.events))
+    # Each event is told before the frame of a later (or its own) step.
+    last_frame = -1
+    for kind, item in collector.told:
+        if kind == "frame":
+            last_frame = item.step  # type: ignore[attr-defined]
+        elif kind == "event":
+            assert item.step > last_frame  # type: ignore[attr-defined]
+    assert streamed.ledger == kept.ledger

@@ -11,14 +11,16 @@ from __future__ import annotations
 
 import contextlib
 import os
+import shutil
 import stat
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import IO
 
 from .errors import InvalidInputError, escape_controls
 
-__all__ = ["atomic_path", "check_target", "write_text_atomically"]
+__all__ = ["atomic_path", "check_target", "copy_atomically", "write_atomically", "write_text_atomically"]
 
 
 def _umask() -> int:
@@ -86,13 +88,26 @@ def write_text_atomically(target: str | Path, produce: Callable[[], str]) -> Non
     """Write ``produce()`` to ``target`` atomically (``produce`` runs before anything is
     replaced); a FIFO or a device is written through. An :class:`OSError` names ``target``."""
     text = produce()
+    write_atomically(target, lambda stream: stream.write(text))
+
+
+def copy_atomically(target: str | Path, source: IO[str]) -> None:
+    """Write what is left to read of ``source`` to ``target`` atomically, in pieces (a long run's
+    output need not fit in memory), as :func:`write_text_atomically`."""
+    write_atomically(target, lambda stream: shutil.copyfileobj(source, stream))
+
+
+def write_atomically(target: str | Path, write: Callable[[IO[str]], object]) -> None:
+    """Call ``write`` with a text stream whose content replaces ``target`` atomically once
+    ``write`` returns; a FIFO or a device is written through. An :class:`OSError` names
+    ``target``."""
     real = Path(os.path.realpath(target))
     try:
         if real.exists() and not real.is_file():  # a FIFO or a device: it cannot be replaced
             with open(real, "w", encoding="utf-8") as stream:
-                stream.write(text)
+                write(stream)
             return
-        with atomic_path(real) as temporary:
-            temporary.write_text(text, encoding="utf-8")
+        with atomic_path(real) as temporary, open(temporary, "w", encoding="utf-8") as stream:
+            write(stream)
     except OSError as error:
         raise OSError(error.errno, error.strerror or str(error), str(target)) from None

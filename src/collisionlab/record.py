@@ -6,7 +6,7 @@ One record feeds every output (table, CSV, JSON, plots), so nothing is simulated
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 from .vector import Vector3D
 
@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 
     from .model import Scenario
 
-__all__ = ["BodyState", "CollisionEvent", "Frame", "Ledger", "RunRecord", "SkippedContact"]
+__all__ = ["BodyState", "CollisionEvent", "Frame", "Ledger", "RunObserver", "RunRecord", "SkippedContact"]
 
 
 def _vec(v: Vector3D) -> list[float]:
@@ -41,6 +41,15 @@ class Frame:
     step: int
     time: float
     bodies: tuple[BodyState, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "step": self.step,
+            "time": self.time,
+            "bodies": [
+                {"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in self.bodies
+            ],
+        }
 
 
 @dataclass(frozen=True)
@@ -157,6 +166,24 @@ class Ledger:
         }
 
 
+class RunObserver(Protocol):
+    """What a :meth:`World.run <collisionlab.engine.world.World.run>` tells as it happens, in
+    order: :meth:`begin` (the record: title, settings, the warnings known at the start), then
+    frames, events and warnings as they are produced, then :meth:`end` (the ledger is final).
+    Events come in step order, each batch with the step the world has reached (a frame of that
+    step may follow). The CLI's writers are observers, so nothing need be held until the end."""
+
+    def begin(self, record: RunRecord) -> None: ...
+
+    def frame(self, frame: Frame) -> None: ...
+
+    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None: ...
+
+    def warning(self, text: str) -> None: ...
+
+    def end(self, record: RunRecord) -> None: ...
+
+
 @dataclass
 class RunRecord:
     """Everything a run produced. ``frames`` holds every recorded step (see ``World.run``)."""
@@ -175,6 +202,14 @@ class RunRecord:
     warnings: list[str] = field(default_factory=list)
     #: The scenario that was run (its shapes and masses draw the plot); ``None`` when unknown.
     scenario: Scenario | None = field(default=None, repr=False, compare=False)
+    #: Collisions counted by the world, kept or not (a run streamed to an observer with
+    #: ``keep=False`` keeps no events, only this count; see :attr:`collision_total`).
+    collision_count: int = 0
+
+    @property
+    def collision_total(self) -> int:
+        """The run's collisions: those counted, or those held when the record was built by hand."""
+        return max(self.collision_count, len(self.events))
 
     def __repr__(self) -> str:
         """Counts, not contents (a long run holds thousands of frames)."""
@@ -265,7 +300,7 @@ class RunRecord:
 
     def summary(self) -> dict[str, Any]:
         return {
-            "collisions": len(self.events),
+            "collisions": self.collision_total,
             "steps": self.steps,
             "time": self.frames[-1].time if self.frames else 0.0,
             "momentum_start": _vec(self.ledger.momentum_start),
@@ -274,8 +309,28 @@ class RunRecord:
             "kinetic_energy_end": self.ledger.kinetic_end,
         }
 
-    def to_dict(self) -> dict[str, Any]:
-        """The JSON form: ``frames``, ``events``, ``summary``, ``ledger`` and more."""
+    def replay(self, observer: RunObserver) -> None:
+        """Tell ``observer`` this record as :meth:`World.run <collisionlab.engine.world.World.run>`
+        told it: each frame after the events up to its step."""
+        observer.begin(self)
+        events, skipped = self.events, self.skipped
+        e = s = 0
+        for frame in self.frames:
+            e2, s2 = e, s
+            while e2 < len(events) and events[e2].step <= frame.step:
+                e2 += 1
+            while s2 < len(skipped) and skipped[s2].step <= frame.step:
+                s2 += 1
+            if e2 > e or s2 > s:
+                observer.events(events[e:e2], skipped[s:s2], frame.step)
+            e, s = e2, s2
+            observer.frame(frame)
+        if e < len(events) or s < len(skipped):
+            observer.events(events[e:], skipped[s:], self.steps)
+        observer.end(self)
+
+    def header_dict(self) -> dict[str, Any]:
+        """The JSON form's first keys: ``title``, ``dims``, ``settings``."""
         return {
             "title": self.title,
             "dims": self.dims,
@@ -286,19 +341,22 @@ class RunRecord:
                 "restitution": self.restitution,
                 "gravity": _vec(self.gravity),
             },
-            "frames": [
-                {
-                    "step": f.step,
-                    "time": f.time,
-                    "bodies": [
-                        {"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in f.bodies
-                    ],
-                }
-                for f in self.frames
-            ],
-            "events": [e.to_dict() for e in self.events],
-            "skipped": [s.to_dict() for s in self.skipped],
+        }
+
+    def footer_dict(self) -> dict[str, Any]:
+        """The JSON form's last keys: ``summary``, ``ledger``, ``warnings``."""
+        return {
             "summary": self.summary(),
             "ledger": self.ledger.to_dict(),
             "warnings": list(self.warnings),
+        }
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON form: ``frames``, ``events``, ``summary``, ``ledger`` and more."""
+        return {
+            **self.header_dict(),
+            "frames": [f.to_dict() for f in self.frames],
+            "events": [e.to_dict() for e in self.events],
+            "skipped": [s.to_dict() for s in self.skipped],
+            **self.footer_dict(),
         }

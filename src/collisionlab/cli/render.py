@@ -7,13 +7,23 @@ import csv
 import io
 import json
 import math
-from typing import Any
+import tempfile
+from typing import IO, Any, TextIO
 
-from ..record import CollisionEvent, Frame, RunRecord, SkippedContact
+from ..record import CollisionEvent, Frame, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
 
-__all__ = ["render", "render_csv", "render_json", "render_table"]
+__all__ = [
+    "CsvWriter",
+    "JsonWriter",
+    "TableWriter",
+    "render",
+    "render_csv",
+    "render_json",
+    "render_table",
+    "writer_for",
+]
 
 _WIDTH = 11
 
@@ -81,7 +91,7 @@ def _header(frame: Frame, dims: int) -> str:
 
 def summary_lines(record: RunRecord) -> list[str]:
     ledger = record.ledger
-    count = len(record.events)
+    count = record.collision_total
     duration = record.frames[-1].time if record.frames else 0.0
     lines = [
         f"summary: {count} collision{'s' if count != 1 else ''} in {record.steps} steps "
@@ -105,53 +115,97 @@ def summary_lines(record: RunRecord) -> list[str]:
     return lines
 
 
-def render_table(record: RunRecord, every: int = 1, quiet: bool = False, explain: bool = False) -> str:
-    """The lab's output: a row of positions per step, each collision announced after its step
-    with the velocity after it, warnings, then the summary. ``quiet`` keeps only events and
-    the summary."""
-    dims = record.dims
-    out: list[str] = [f"{record.title}  (dt = {record.dt:g} s, {record.steps} steps, mode {record.mode})"]
-    out += [f"warning: {w}" for w in record.warnings]
-    events_by_step: dict[int, list[str]] = {}
-    for event in record.events:
-        events_by_step.setdefault(event.step, []).extend(_event_lines(event, dims, explain))
-    if explain:
-        for skip in record.skipped:
-            events_by_step.setdefault(skip.step, []).append(_skip_line(skip))
-    if not quiet and record.frames:
-        out.append(_header(record.frames[0], dims))
-    last_step = -1
-    for frame in record.frames:
-        # Events of the steps between kept frames come first (in step order), then this row,
-        # then this step's own events: the same text whether every step was kept or not.
-        for step in sorted(s for s in events_by_step if last_step < s < frame.step):
-            out += events_by_step[step]
-        if not quiet and (frame.step % every == 0 or frame.step == record.steps):
-            out.append(_row(frame, dims))
-        out += events_by_step.get(frame.step, [])
-        last_step = frame.step
-    out += summary_lines(record)
-    return "\n".join(out) + "\n"
+class TableWriter:
+    """The lab's output, written as the run goes (a :class:`~collisionlab.record.RunObserver`):
+    a row of positions per kept step, each collision announced after its step with the velocity
+    after it, warnings, then the summary. ``quiet`` keeps only events and the summary. Events of
+    the steps between two kept rows come before the later row, a row's own step's after it."""
+
+    def __init__(self, out: TextIO, every: int = 1, quiet: bool = False, explain: bool = False) -> None:
+        self._out, self._every, self._quiet, self._explain = out, every, quiet, explain
+        self._dims = 3
+        self._steps = 0
+        self._pending: list[tuple[int, list[str]]] = []  # (step, lines) not yet written
+        self._header = False
+
+    def begin(self, record: RunRecord) -> None:
+        self._dims, self._steps = record.dims, record.steps
+        self._out.write(f"{record.title}  (dt = {record.dt:g} s, {record.steps} steps, mode {record.mode})\n")
+        for text in record.warnings:
+            self.warning(text)
+
+    def _flush(self, below: int) -> None:
+        kept = []
+        for step, lines in self._pending:
+            if step < below:
+                self._out.writelines(line + "\n" for line in lines)
+            else:
+                kept.append((step, lines))
+        self._pending = kept
+
+    def frame(self, frame: Frame) -> None:
+        self._flush(frame.step)
+        if not self._quiet:
+            if not self._header:
+                self._out.write(_header(frame, self._dims) + "\n")
+                self._header = True
+            if frame.step % self._every == 0 or frame.step == self._steps:
+                self._out.write(_row(frame, self._dims) + "\n")
+        self._flush(frame.step + 1)
+
+    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
+        by_step: dict[int, list[str]] = {}
+        for event in events:
+            by_step.setdefault(event.step, []).extend(_event_lines(event, self._dims, self._explain))
+        if self._explain:
+            for skip in skipped:
+                by_step.setdefault(skip.step, []).append(_skip_line(skip))
+        self._pending += sorted(by_step.items(), key=lambda item: item[0])
+        self._flush(reached)
+
+    def warning(self, text: str) -> None:
+        self._out.write(f"warning: {text}\n")
+
+    def end(self, record: RunRecord) -> None:
+        self._flush(record.steps + 1)
+        self._out.writelines(line + "\n" for line in summary_lines(record))
 
 
-def render_csv(record: RunRecord, every: int = 1) -> str:
+class CsvWriter:
     """One row per kept frame: step, time, then x, y, z and vx, vy, vz of every body."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    if record.frames:
-        header = ["step", "time"]
-        for body in record.frames[0].bodies:
-            header += [f"{body.name}.{q}" for q in ("x", "y", "z", "vx", "vy", "vz")]
-        writer.writerow(header)
-    for frame in record.frames:
-        if frame.step % every and frame.step != record.steps:
-            continue
+
+    def __init__(self, out: TextIO, every: int = 1) -> None:
+        self._writer = csv.writer(out, lineterminator="\n")
+        self._every = every
+        self._steps = 0
+        self._header = False
+
+    def begin(self, record: RunRecord) -> None:
+        self._steps = record.steps
+
+    def frame(self, frame: Frame) -> None:
+        if not self._header:
+            header = ["step", "time"]
+            for body in frame.bodies:
+                header += [f"{body.name}.{q}" for q in ("x", "y", "z", "vx", "vy", "vz")]
+            self._writer.writerow(header)
+            self._header = True
+        if frame.step % self._every and frame.step != self._steps:
+            return
         row: list[object] = [frame.step, f"{frame.time:.15g}"]
         for body in frame.bodies:
             # 15 significant digits: every digit a double holds for sure (JSON keeps all 17).
             row += [f"{c:.15g}" for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
-        writer.writerow(row)
-    return buffer.getvalue()
+        self._writer.writerow(row)
+
+    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
+        pass
+
+    def warning(self, text: str) -> None:
+        pass
+
+    def end(self, record: RunRecord) -> None:
+        pass
 
 
 def _no_signed_zero(value: Any) -> Any:
@@ -166,35 +220,90 @@ def _no_signed_zero(value: Any) -> Any:
     return value
 
 
-def _json_lines(data: dict[str, Any]) -> str:
-    """``data`` as JSON, one top-level key per line and each item of a list (a frame, an event)
-    on a line of its own: readable and line-oriented, and written by the json module's C
-    encoder (which ``indent`` turns off: a run's frames and events are most of the work).
+def _dumps(value: Any) -> str:
+    return json.dumps(_no_signed_zero(value))
 
-    >>> print(_json_lines({"title": "t", "frames": [{"step": 0}, {"step": 1}], "events": []}))
-    {
-     "title": "t",
-     "frames": [
-      {"step": 0},
-      {"step": 1}
-     ],
-     "events": []
-    }
-    """
-    parts = []
-    for key, value in data.items():
-        if isinstance(value, list) and value:
-            items = ",\n  ".join(json.dumps(item) for item in value)
-            parts.append(f" {json.dumps(key)}: [\n  {items}\n ]")
-        else:
-            parts.append(f" {json.dumps(key)}: {json.dumps(value)}")
-    return "{\n" + ",\n".join(parts) + "\n}"
+
+class JsonWriter:
+    """One JSON object per run, written as it goes: one top-level key per line and each frame,
+    event and skipped contact on a line of its own (readable, line-oriented, and written by the
+    json module's C encoder, which ``indent`` would turn off). Frames go straight out; events and
+    skipped contacts, which the object lists after the frames, wait in temporary files (disk,
+    not memory). The object ends with ``}`` (no newline)."""
+
+    def __init__(self, out: TextIO, every: int = 1) -> None:
+        self._out, self._every = out, every
+        self._steps = 0
+        self._frames = 0
+        self._spools: dict[str, tuple[IO[str], list[int]]] = {}
+
+    def begin(self, record: RunRecord) -> None:
+        self._steps = record.steps
+        self._out.write("{\n" + "".join(f" {json.dumps(k)}: {_dumps(v)},\n" for k, v in record.header_dict().items()))
+        self._out.write(' "frames": [')
+        # Open across calls, closed by end(); a run that fails drops them (already unlinked).
+        self._spools = {
+            key: (tempfile.TemporaryFile("w+", encoding="utf-8"), [0])  # noqa: SIM115
+            for key in ("events", "skipped")
+        }
+
+    def frame(self, frame: Frame) -> None:
+        if frame.step % self._every and frame.step != self._steps:
+            return
+        self._out.write(("\n  " if self._frames == 0 else ",\n  ") + _dumps(frame.to_dict()))
+        self._frames += 1
+
+    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
+        for key, items in (("events", events), ("skipped", skipped)):
+            spool, count = self._spools[key]
+            spool.writelines(_dumps(item.to_dict()) + "\n" for item in items)
+            count[0] += len(items)
+
+    def warning(self, text: str) -> None:
+        pass  # the record's warnings are written at the end
+
+    def end(self, record: RunRecord) -> None:
+        self._out.write("\n ]" if self._frames else "]")
+        for key, (spool, count) in self._spools.items():
+            self._out.write(f",\n {json.dumps(key)}: [")
+            if count[0]:
+                spool.seek(0)
+                self._out.write("\n  " + ",\n  ".join(line.rstrip("\n") for line in spool) + "\n ]")
+            else:
+                self._out.write("]")
+            spool.close()
+        self._out.write("".join(f",\n {json.dumps(k)}: {_dumps(v)}" for k, v in record.footer_dict().items()))
+        self._out.write("\n}")
+
+
+def writer_for(fmt: str, out: TextIO, every: int = 1, quiet: bool = False, explain: bool = False) -> RunObserver:
+    """The writer of ``fmt`` (``table``, ``csv`` or ``json``) into ``out``."""
+    if fmt == "csv":
+        return CsvWriter(out, every)
+    if fmt == "json":
+        return JsonWriter(out, every)
+    return TableWriter(out, every, quiet, explain)
+
+
+def render_table(record: RunRecord, every: int = 1, quiet: bool = False, explain: bool = False) -> str:
+    """The lab's output of a whole record (:class:`TableWriter`)."""
+    buffer = io.StringIO()
+    record.replay(TableWriter(buffer, every, quiet, explain))
+    return buffer.getvalue()
+
+
+def render_csv(record: RunRecord, every: int = 1) -> str:
+    """The CSV of a whole record (:class:`CsvWriter`)."""
+    buffer = io.StringIO()
+    record.replay(CsvWriter(buffer, every))
+    return buffer.getvalue()
 
 
 def render_json(record: RunRecord, every: int = 1) -> str:
-    data = _no_signed_zero(record.to_dict())
-    data["frames"] = [f for f in data["frames"] if f["step"] % every == 0 or f["step"] == record.steps]
-    return _json_lines(data) + "\n"
+    """The JSON of a whole record (:class:`JsonWriter`), with a final newline."""
+    buffer = io.StringIO()
+    record.replay(JsonWriter(buffer, every))
+    return buffer.getvalue() + "\n"
 
 
 def render(record: RunRecord, fmt: str, every: int = 1, quiet: bool = False, explain: bool = False) -> str:

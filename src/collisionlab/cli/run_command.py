@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import shutil
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
 from .. import limits
-from ..atomic import check_target, write_text_atomically
+from ..atomic import check_target, copy_atomically
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..model import Scenario
@@ -17,7 +19,7 @@ from ..scenario_file import load_scenario
 from ..validate import whole_number
 from ..world import World
 from .progress import ProgressBar
-from .render import render
+from .render import writer_for
 from .streams import Streams
 
 __all__ = ["add_run_parsers", "execute"]
@@ -158,49 +160,50 @@ def execute(
     if args.output is not None:
         check_target(args.output, "--output")  # as the pictures: before the run
     overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
-    texts: list[str] = []
-    records: list[RunRecord] = []
-    for index, scenario in enumerate(scenarios):
-        label = None if len(scenarios) == 1 else labels[index] if labels else scenario.title
-        if overrides:
+    pictures = bool(args.plot or args.animate or args.html)
+    listed = args.format == "json" and len(scenarios) > 1
+    # The writers stream into a temporary file (disk, not memory: a run's frames and events are
+    # written as they are produced); it reaches stdout or --output only when every run succeeded,
+    # so a failed run prints nothing and leaves no file, and the JSON is always whole.
+    with tempfile.TemporaryFile("w+", encoding="utf-8") as spool:
+        if listed:
+            spool.write("[\n")
+        for index, scenario in enumerate(scenarios):
+            label = None if len(scenarios) == 1 else labels[index] if labels else scenario.title
+            if overrides:
+                try:
+                    scenario = scenario.with_settings(**overrides)
+                except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
+                    flag = error.field.replace("simulation.", "--")
+                    raise error.renamed(flag) if flag[2:] in overrides else error from None
+            # The kept frames must fit in memory: say so before the run, naming the flag.
+            limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
+            if index:
+                spool.write(",\n" if args.format == "json" else "\n")
+            writer = writer_for(args.format, spool, args.every, args.quiet, args.explain)
+            bar = ProgressBar(streams, scenario.title)
             try:
-                scenario = scenario.with_settings(**overrides)
-            except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
-                flag = error.field.replace("simulation.", "--")
-                raise error.renamed(flag) if flag[2:] in overrides else error from None
-        # The kept frames must fit in memory: say so before the run, naming the flag.
-        limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
-        bar = ProgressBar(streams, scenario.title)
-        try:
-            # Frames are kept every --every steps only, so memory follows the output, not the run.
-            record = World(scenario, notify=streams.err).run(every=args.every, progress=bar)
-        except OutOfRangeError as error:
-            raise error.within(sources[index]) if sources else error from None
-        finally:
-            bar.close()
-        records.append(record)
-        _pictures(record, scenario, args, streams, label)
-        if args.format == "table":
-            texts.append(render(record, args.format, args.every, args.quiet, args.explain))
-        else:  # the table prints its warnings; CSV and JSON stay data, so warnings go to stderr
-            for warning in record.warnings:
-                streams.err(f"warning: {warning}")
-            if args.format == "csv":
-                texts.append(render(record, args.format, args.every))
-    if args.format == "json":
-        from .render import render_json
-
-        parts = [render_json(r, args.every).rstrip("\n") for r in records]
-        text = parts[0] + "\n" if len(parts) == 1 else "[\n" + ",\n".join(parts) + "\n]\n"
-    else:
-        text = "\n".join(texts)
-    if args.output is not None:
-        try:
-            write_text_atomically(args.output, lambda: text)
-        except OSError as error:
-            shown = escape_controls(args.output)
-            raise CollisionLabError(f"--output: cannot write {shown}: {error.strerror or error}") from None
-        streams.err(f"wrote {args.output}")
-    else:
-        streams.stdout.write(text)
+                # Only pictures need the whole record; the output is written as the run goes.
+                world = World(scenario, notify=streams.err)
+                record = world.run(every=args.every, progress=bar, observer=writer, keep=pictures)
+            except OutOfRangeError as error:
+                raise error.within(sources[index]) if sources else error from None
+            finally:
+                bar.close()
+            _pictures(record, scenario, args, streams, label)
+            if args.format != "table":  # the table prints its warnings; CSV and JSON stay data
+                for warning in record.warnings:
+                    streams.err(f"warning: {warning}")
+        if args.format == "json":
+            spool.write("\n]\n" if listed else "\n")
+        spool.seek(0)
+        if args.output is not None:
+            try:
+                copy_atomically(args.output, spool)
+            except OSError as error:
+                shown = escape_controls(args.output)
+                raise CollisionLabError(f"--output: cannot write {shown}: {error.strerror or error}") from None
+            streams.err(f"wrote {args.output}")
+        else:
+            shutil.copyfileobj(spool, streams.stdout)
     return 0

@@ -29,7 +29,7 @@ import numpy as np
 from .. import limits
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..record import BodyState, CollisionEvent, Frame, RunRecord, SkippedContact
+from ..record import BodyState, CollisionEvent, Frame, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import exact_kernels, step_kernels
 from .exact_kernels import MAX_IMPACTS_PER_STEP
@@ -87,6 +87,9 @@ class World:
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
         self._kernels: dict[bool, Any] = {}
+        #: Where :meth:`run` sends what happens, and whether the record keeps it too.
+        self._observer: RunObserver | None = None
+        self._keep = True
         self.record = RunRecord(
             title=scenario.title,
             mode=settings.mode,
@@ -327,12 +330,14 @@ class World:
             return np.asarray(0.5 * (m_a * np.einsum("ij,ij->i", va, va) + m_b * np.einsum("ij,ij->i", vb, vb)))
 
         before_all, after_all = kinetic(14).tolist(), kinetic(20).tolist()
+        found: list[CollisionEvent] = []
+        skipped: list[SkippedContact] = []
         for row, ke_before, ke_after in zip(events.tolist(), before_all, after_all, strict=True):
             a, b_id = int(row[3]), int(row[4])
             names = self._pair_names(a, b_id)
             step, time = int(row[1]), row[2]
             if row[0] == step_kernels.EVENT_SKIPPED:
-                self.record.skipped.append(SkippedContact(step, time, names, "separating"))
+                skipped.append(SkippedContact(step, time, names, "separating"))
                 continue
             static = a < 0
             vb_before = Vector3D(row[17], row[18], row[19])
@@ -343,7 +348,7 @@ class World:
             else:
                 before = {names[0]: Vector3D(row[14], row[15], row[16]), names[1]: vb_before}
                 after = {names[0]: Vector3D(row[20], row[21], row[22]), names[1]: vb_after}
-            self.record.events.append(
+            found.append(
                 CollisionEvent(
                     step=step,
                     time=time,
@@ -363,16 +368,57 @@ class World:
                 )
             )
         self._stepper.release_events()
+        self.record.collision_count += len(found)
+        if self._keep:
+            self.record.events.extend(found)
+            self.record.skipped.extend(skipped)
+        if self._observer is not None:
+            self._observer.events(found, skipped, self.step_index)
 
     # --- running --------------------------------------------------------------------------------
-    def run(self, every: int = 1, progress: Callable[[int, int], None] | None = None) -> RunRecord:
+    def run(
+        self,
+        every: int = 1,
+        progress: Callable[[int, int], None] | None = None,
+        observer: RunObserver | None = None,
+        keep: bool = True,
+    ) -> RunRecord:
         """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
-        ``progress(done, total)`` is called between chunks of steps."""
+        ``progress(done, total)`` is called between chunks of steps. ``observer`` is told every
+        frame, event and warning as it is produced (:class:`~collisionlab.record.RunObserver`);
+        with ``keep=False`` the record then holds no events and only the first and latest
+        frames (its counts and ledger stay whole), so memory does not grow with the run."""
         total = self.scenario.settings.steps
-        limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
+        if keep:
+            limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
         guard = limits.RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
+        self._observer, self._keep = observer, keep
+        if not self._exact:
+            self._check_tunnelling()  # known before the first frame, so it heads the output
+        if observer is not None:
+            observer.begin(self.record)
+        told = len(self.record.warnings)
         if not self.record.frames:
             self.record.frames.append(self.frame())
+            if observer is not None:
+                observer.frame(self.record.frames[0])
+        try:
+            self._run_chunks(total, every, progress, guard, told)
+        finally:
+            self._observer, self._keep = None, True
+        if observer is not None:
+            observer.end(self.record)
+        return self.record
+
+    def _run_chunks(
+        self,
+        total: int,
+        every: int,
+        progress: Callable[[int, int], None] | None,
+        guard: limits.RangeGuard,
+        told: int,
+    ) -> None:
+        observer = self._observer
         # Steps per call: one for the Python forms; compiled, as many as take about
         # _CHUNK_SECONDS, learnt as it goes, so progress and Ctrl-C are never far away.
         chunk = 1
@@ -390,14 +436,23 @@ class World:
             warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
             if warning:
                 self.record.warnings.append(warning)
+            if observer is not None:
+                for text in self.record.warnings[told:]:
+                    observer.warning(text)
+            told = len(self.record.warnings)
             if self._compiled:
                 took = time.perf_counter() - started
                 chunk = max(1, min(4 * chunk, int(count * _CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
             if self.step_index % every == 0 or self.step_index == total:
-                self.record.frames.append(self._frame(positions, velocities))
+                frame = self._frame(positions, velocities)
+                if not self._keep and len(self.record.frames) > 1:
+                    self.record.frames[-1] = frame  # the first and the latest only
+                else:
+                    self.record.frames.append(frame)
+                if observer is not None:
+                    observer.frame(frame)
             if progress is not None:
                 progress(self.step_index, total)
-        return self.record
 
 
 def simulate(scenario: Scenario, every: int = 1, params: WorldParams | None = None) -> RunRecord:

@@ -179,7 +179,7 @@ def _scenario_metrics(record: RunRecord, seconds: float) -> dict[str, Any]:
     first = record.events[0] if record.events else None
     duration = record.frames[-1].time if record.frames else 0.0
     return {
-        "collisions": len(record.events),
+        "collisions": record.collision_total,
         "first_collision_step": first.step if first else None,
         "first_collision_time": first.time if first else None,
         "kinetic_energy_start": ledger.kinetic_start,
@@ -193,7 +193,7 @@ def _scenario_metrics(record: RunRecord, seconds: float) -> dict[str, Any]:
         "ledger_push_apart": ledger.push_apart,
         "ledger_residual": ledger.residual,
         "ledger_predicted": ledger.collisions_predicted,
-        "collision_rate": len(record.events) / duration if duration > 0 else math.nan,
+        "collision_rate": record.collision_total / duration if duration > 0 else math.nan,
         "max_overlap": ledger.max_penetration,
         "tunnelling_warning": any("tunnelling" in warning for warning in record.warnings),
         "wall_time": seconds,
