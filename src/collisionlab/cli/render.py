@@ -268,7 +268,11 @@ class JsonWriter:
             self._out.write(f",\n {json.dumps(key)}: [")
             if count[0]:
                 spool.seek(0)
-                self._out.write("\n  " + ",\n  ".join(line.rstrip("\n") for line in spool) + "\n ]")
+                separator = "\n  "
+                for line in spool:  # a line at a time: the spool may be larger than memory
+                    self._out.write(separator + line.rstrip("\n"))
+                    separator = ",\n  "
+                self._out.write("\n ]")
             else:
                 self._out.write("]")
             spool.close()
