@@ -93,7 +93,7 @@ def _advance(F: Any, i: int, now: float, g: float) -> None:
         F[i, T] = now
 
 
-@jit
+@jit_inline
 def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
     """Schedule body ``i``'s next event (``i`` holds at ``now``): the soonest of leaving its
     list, hitting a wall, or hitting a neighbour."""
@@ -193,7 +193,7 @@ def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> Non
         K[K_BUFFERED] = n + 1
 
 
-@jit
+@jit_inline
 def _collide(
     heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
 ) -> None:
@@ -245,7 +245,7 @@ def _collide(
     _predict(heap, lists, F, IX, NB, P, Q, K, j, now)
 
 
-@jit
+@jit_inline
 def _bounce(
     heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
 ) -> None:
