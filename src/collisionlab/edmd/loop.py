@@ -72,7 +72,7 @@ from .layout import (
     V,
     X,
 )
-from .predict import ceiling_time, floor_time, leave_time, pair_time, wall_time
+from .predict import ceiling_time, contact_time, floor_time, leave_time, wall_time
 
 __all__ = ["BUFFER_FULL", "DONE", "EVENT_LIMIT", "LIST_FULL", "max_overlap_now", "run_events", "start", "synchronize"]
 
@@ -152,7 +152,7 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
             dy = nearest_image(dy, P[P_L + 1])
             if dim == 3:
                 dz = nearest_image(dz, P[P_L + 2])
-        t = pair_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2, tmin)
+        t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
         if t < tmin:
             tmin = t
             kind = KIND_PAIR
