@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 from collisionlab.edmd.cells import nearest_image
-from collisionlab.edmd.predict import ceiling_time, floor_time, leave_time, pair_time, wall_time
+from collisionlab.edmd.predict import ceiling_time, contact_time, floor_time, leave_time, pair_time, wall_time
 
 
 @pytest.mark.parametrize(
@@ -29,6 +30,15 @@ from collisionlab.edmd.predict import ceiling_time, floor_time, leave_time, pair
 )
 def test_pair_time(args: tuple[float, ...], expected: float) -> None:
     assert pair_time(*args, math.inf) == pytest.approx(expected, rel=1e-15, abs=0.0)
+
+
+def test_contact_time_is_pair_time_without_tmin() -> None:
+    # the branch-free form the event loop uses: bit for bit the same time, hits, misses and overlaps
+    rng = np.random.default_rng(7)
+    for row in rng.uniform(-3.0, 3.0, size=(2000, 6)):
+        args = (*(float(x) for x in row), 4.0)
+        assert contact_time(*args) == pair_time(*args, math.inf)
+    assert contact_time(1.9999999, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0) == 0.0
 
 
 def test_pair_time_is_pruned_beyond_tmin() -> None:

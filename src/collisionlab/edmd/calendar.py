@@ -161,7 +161,7 @@ def _spread_overflow(heap: Any, lists: Any, F: Any, IX: Any, P: Any, Q: Any, K: 
         i = nxt
 
 
-@jit
+@jit_inline
 def calendar_next(heap: Any, lists: Any, F: Any, IX: Any, P: Any, Q: Any, K: Any) -> int:
     """The body whose event comes first (left in the calendar), or -1 if nothing is scheduled."""
     nb = Q[Q_NB]

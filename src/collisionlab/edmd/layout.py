@@ -6,8 +6,8 @@ handling an event reads a few cache lines instead of one line from each of twent
 The constants are module globals; numba freezes them into the compiled code.
 
 =========  ==============================================================================
-``F``      position (``X..X+2``), velocity (``V..V+2``), neighbour-list centre (``C..C+2``),
-           time ``T`` at which position and velocity hold, scheduled event time ``EVT``,
+``F``      position (``X..X+2``), velocity (``V..V+2``), time ``T`` at which position and
+           velocity hold, scheduled event time ``EVT``, neighbour-list centre (``C..C+2``),
            time ``TLAST`` of the last collision (the TC model)
 ``IX``      collision counter ``COUNT``, the partner's counter when the event was scheduled
            ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, cell list
@@ -84,12 +84,13 @@ __all__ = [
     "X",
 ]
 
-# F: float64 per body
+# F: float64 per body. Position, velocity, their time and the event time come first: they are
+# what predicting a neighbour's collision and ordering the calendar read, 64 contiguous bytes.
 X = 0
 V = 3
-C = 6
-T = 9
-EVT = 10
+T = 6
+EVT = 7
+C = 8
 TLAST = 11
 NF = 12
 

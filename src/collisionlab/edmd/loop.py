@@ -72,7 +72,7 @@ from .layout import (
     V,
     X,
 )
-from .predict import ceiling_time, floor_time, leave_time, pair_time, wall_time
+from .predict import ceiling_time, contact_time, floor_time, leave_time, wall_time
 
 __all__ = ["BUFFER_FULL", "DONE", "EVENT_LIMIT", "LIST_FULL", "max_overlap_now", "run_events", "start", "synchronize"]
 
@@ -93,7 +93,7 @@ def _advance(F: Any, i: int, now: float, g: float) -> None:
         F[i, T] = now
 
 
-@jit
+@jit_inline
 def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
     """Schedule body ``i``'s next event (``i`` holds at ``now``): the soonest of leaving its
     list, hitting a wall, or hitting a neighbour."""
@@ -152,7 +152,7 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
             dy = nearest_image(dy, P[P_L + 1])
             if dim == 3:
                 dz = nearest_image(dz, P[P_L + 2])
-        t = pair_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2, tmin)
+        t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
         if t < tmin:
             tmin = t
             kind = KIND_PAIR
@@ -193,7 +193,7 @@ def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> Non
         K[K_BUFFERED] = n + 1
 
 
-@jit
+@jit_inline
 def _collide(
     heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
 ) -> None:
@@ -245,7 +245,7 @@ def _collide(
     _predict(heap, lists, F, IX, NB, P, Q, K, j, now)
 
 
-@jit
+@jit_inline
 def _bounce(
     heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
 ) -> None:

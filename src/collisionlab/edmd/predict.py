@@ -25,7 +25,7 @@ import math
 
 from .compile import jit_inline
 
-__all__ = ["ceiling_time", "floor_time", "leave_time", "pair_time", "wall_time"]
+__all__ = ["ceiling_time", "contact_time", "floor_time", "leave_time", "pair_time", "wall_time"]
 
 
 @jit_inline
@@ -47,6 +47,27 @@ def pair_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: floa
     if a <= 0.0:
         return 0.0
     return a / (-b + math.sqrt(disc))
+
+
+@jit_inline
+def contact_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma2: float) -> float:
+    """:func:`pair_time` with no ``tmin`` (the same value as ``pair_time(..., inf)``), computed
+    without branches: the event loop tests every neighbour, and whether a pair approaches is a
+    coin toss the processor cannot predict, so a mispredicted branch cost more than always taking
+    the square root and the division. A pruned pair (see :func:`pair_time`) meets later than
+    ``tmin``, so testing it in full never changes which neighbour is soonest.
+
+    >>> contact_time(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0), contact_time(3.0, 0.0, 0.0, 1.0, 0.0, 0.0, 4.0)
+    (1.0, inf)
+    """
+    b = dx * dvx + dy * dvy + dz * dvz
+    a = dx * dx + dy * dy + dz * dz - sigma2
+    v2 = dvx * dvx + dvy * dvy + dvz * dvz
+    disc = b * b - v2 * a
+    # max(): a miss (disc < 0) would take the root of a negative; its time is discarded below.
+    root = a / (-b + math.sqrt(max(disc, 0.0)))
+    t = 0.0 if a <= 0.0 else root
+    return t if (b < 0.0) & (disc > 0.0) else math.inf
 
 
 @jit_inline

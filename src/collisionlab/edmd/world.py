@@ -19,14 +19,23 @@ from ..validate import non_negative, positive
 from . import layout as L
 from .loop import BUFFER_FULL, LIST_FULL, max_overlap_now, run_events, start, synchronize
 
-__all__ = ["EventDrivenWorld", "EventSink", "Tally"]
+__all__ = ["EventDrivenWorld", "EventSink", "Tally", "shell_for"]
 
 #: Receives a block of events, one row each: time, body a, body b (or ``-1 - wall``), impulse.
 EventSink = Callable[[NDArray[np.float64]], None]
 
-#: Neighbour-list reach in diameters (Smallenburg's ``1 + alpha``; he uses 1.5, 1.7 was faster here at
-#: packing 0.25 (fewer list rebuilds) and no slower at 0.45: bench/bench_edmd.py).
+#: Neighbour-list reach in diameters (Smallenburg's ``1 + alpha``; he uses 1.5) in 2D and under
+#: gravity (where the mean density says little about a pile's).
 SHELL = 1.7
+#: In 3D without gravity the reach follows the packing fraction: a wider shell means fewer list
+#: rebuilds but more neighbours to test at every prediction, and the balance moves to narrower
+#: shells as the fluid gets denser. ``SHELL_AT_QUARTER * (fraction / 0.25) ** -SHELL_EXPONENT``,
+#: within ``[SHELL_MIN, SHELL_MAX]``, was fitted to the fastest shells of bench/bench_edmd.py.
+#: ``SHELL_MAX`` keeps the reach within half of the smallest periodic box (4 diameters).
+SHELL_AT_QUARTER = 2.0
+SHELL_EXPONENT = 0.38
+SHELL_MIN = 1.4
+SHELL_MAX = 2.0
 #: Calendar: scheduled events per block of the near-future heap, and how many typical event
 #: times the ring of lists covers before the overflow list (tuned in bench/bench_edmd.py).
 EVENTS_PER_BLOCK = 8.0
@@ -49,6 +58,19 @@ class Tally:
     wall_momentum: tuple[float, ...]
     max_contact_overlap: float
     energy_lost: float
+
+
+def shell_for(dim: int, fraction: float, gravity: float) -> float:
+    """The neighbour-list reach in diameters for a box of packing ``fraction`` (see ``SHELL``).
+
+    >>> shell_for(3, 0.25, 0.0), shell_for(2, 0.25, 0.0), shell_for(3, 0.05, 0.0)
+    (2.0, 1.7, 2.0)
+    """
+    if dim != 3 or gravity > 0.0:
+        return SHELL
+    if fraction <= 0.0:
+        return SHELL_MAX
+    return min(SHELL_MAX, max(SHELL_MIN, SHELL_AT_QUARTER * float((fraction / 0.25) ** -SHELL_EXPONENT)))
 
 
 def _morton_order(pos: NDArray[np.float64], cell: float) -> NDArray[np.int64]:
@@ -115,7 +137,9 @@ class EventDrivenWorld:
         if self.gravity > 0 and self.tc <= 0:
             raise InvalidInputError("tc", "must be > 0 under gravity (the shortest flight off the floor)")
         sigma = 2.0 * self.radius
-        cut = SHELL * sigma
+        ball = math.pi * self.radius**2 if dim == 2 else 4.0 / 3.0 * math.pi * self.radius**3
+        self.shell = shell_for(dim, n * ball / float(np.prod(box)), self.gravity)
+        cut = self.shell * sigma
         if self.periodic and np.any(box < 4.0 * sigma):
             raise InvalidInputError("sides", "a periodic box must be at least 4 diameters wide", got=box.tolist())
         if self.periodic:
