@@ -8,6 +8,7 @@ import io
 import json
 import math
 import tempfile
+from collections.abc import Callable
 from typing import IO, Any, TextIO
 
 from ..record import CollisionEvent, Frame, RunObserver, RunRecord, SkippedContact
@@ -289,25 +290,26 @@ def writer_for(fmt: str, out: TextIO, every: int = 1, quiet: bool = False, expla
     return TableWriter(out, every, quiet, explain)
 
 
+def _replayed(record: RunRecord, writer: Callable[[TextIO], RunObserver]) -> str:
+    """The text ``writer`` writes of the whole ``record``."""
+    buffer = io.StringIO()
+    record.replay(writer(buffer))
+    return buffer.getvalue()
+
+
 def render_table(record: RunRecord, every: int = 1, quiet: bool = False, explain: bool = False) -> str:
     """The lab's output of a whole record (:class:`TableWriter`)."""
-    buffer = io.StringIO()
-    record.replay(TableWriter(buffer, every, quiet, explain))
-    return buffer.getvalue()
+    return _replayed(record, lambda out: TableWriter(out, every, quiet, explain))
 
 
 def render_csv(record: RunRecord, every: int = 1) -> str:
     """The CSV of a whole record (:class:`CsvWriter`)."""
-    buffer = io.StringIO()
-    record.replay(CsvWriter(buffer, every))
-    return buffer.getvalue()
+    return _replayed(record, lambda out: CsvWriter(out, every))
 
 
 def render_json(record: RunRecord, every: int = 1) -> str:
     """The JSON of a whole record (:class:`JsonWriter`), with a final newline."""
-    buffer = io.StringIO()
-    record.replay(JsonWriter(buffer, every))
-    return buffer.getvalue() + "\n"
+    return _replayed(record, lambda out: JsonWriter(out, every)) + "\n"
 
 
 def render(record: RunRecord, fmt: str, every: int = 1, quiet: bool = False, explain: bool = False) -> str:
