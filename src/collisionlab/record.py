@@ -20,7 +20,8 @@ __all__ = ["BodyState", "CollisionEvent", "Frame", "Ledger", "RunObserver", "Run
 
 
 def _vec(v: Vector3D) -> list[float]:
-    return [v.x, v.y, v.z]
+    """``v`` as a list, ``-0.0`` written ``0.0`` (a signed zero reads as another number)."""
+    return [v.x + 0.0, v.y + 0.0, v.z + 0.0]
 
 
 def _count(n: int, singular: str, plural: str | None = None) -> str:
@@ -45,7 +46,7 @@ class Frame:
     def to_dict(self) -> dict[str, Any]:
         return {
             "step": self.step,
-            "time": self.time,
+            "time": self.time + 0.0,
             "bodies": [
                 {"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in self.bodies
             ],
@@ -83,18 +84,18 @@ class CollisionEvent:
     def to_dict(self) -> dict[str, Any]:
         return {
             "step": self.step,
-            "time": self.time,
+            "time": self.time + 0.0,
             "bodies": list(self.bodies),
             "static": self.static,
             "normal": _vec(self.normal),
             "point": _vec(self.point),
-            "approach_speed": self.approach_speed,
-            "impulse": self.impulse,
-            "restitution": self.restitution,
+            "approach_speed": self.approach_speed + 0.0,
+            "impulse": self.impulse + 0.0,
+            "restitution": self.restitution + 0.0,
             "velocities_before": {k: _vec(v) for k, v in self.velocities_before.items()},
             "velocities_after": {k: _vec(v) for k, v in self.velocities_after.items()},
-            "kinetic_energy_before": self.kinetic_energy_before,
-            "kinetic_energy_after": self.kinetic_energy_after,
+            "kinetic_energy_before": self.kinetic_energy_before + 0.0,
+            "kinetic_energy_after": self.kinetic_energy_after + 0.0,
             "below_rest_threshold": self.below_rest_threshold,
         }
 
@@ -109,7 +110,7 @@ class SkippedContact:
     reason: str
 
     def to_dict(self) -> dict[str, Any]:
-        return {"step": self.step, "time": self.time, "bodies": list(self.bodies), "reason": self.reason}
+        return {"step": self.step, "time": self.time + 0.0, "bodies": list(self.bodies), "reason": self.reason}
 
 
 @dataclass

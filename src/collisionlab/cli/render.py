@@ -225,6 +225,11 @@ def _dumps(value: Any) -> str:
     return json.dumps(_no_signed_zero(value))
 
 
+def _dumps_item(item: Frame | CollisionEvent | SkippedContact) -> str:
+    """A frame, event or skipped contact: their ``to_dict`` already writes no signed zero."""
+    return json.dumps(item.to_dict())
+
+
 class JsonWriter:
     """One JSON object per run, written as it goes: one top-level key per line and each frame,
     event and skipped contact on a line of its own (readable, line-oriented, and written by the
@@ -251,13 +256,13 @@ class JsonWriter:
     def frame(self, frame: Frame) -> None:
         if frame.step % self._every and frame.step != self._steps:
             return
-        self._out.write(("\n  " if self._frames == 0 else ",\n  ") + _dumps(frame.to_dict()))
+        self._out.write(("\n  " if self._frames == 0 else ",\n  ") + _dumps_item(frame))
         self._frames += 1
 
     def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
         for key, items in (("events", events), ("skipped", skipped)):
             spool, count = self._spools[key]
-            spool.writelines(_dumps(item.to_dict()) + "\n" for item in items)
+            spool.writelines(_dumps_item(item) + "\n" for item in items)
             count[0] += len(items)
 
     def warning(self, text: str) -> None:
