@@ -330,5 +330,6 @@ class ParticleWorld:
         return StepReport(steps, int(ledger[5]), int(ledger[6]))
 
     def _run(self, dt: float, steps: int, ledger: NDArray[np.float64]) -> None:
+        before = self._stepper.ledger.copy()  # the stepper keeps totals; this call's part
         self._stepper.advance(engine_kernels(self._backend), dt, self._e, self._steps, steps)
-        ledger += self._stepper.ledger
+        ledger += self._stepper.ledger - before
