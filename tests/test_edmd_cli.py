@@ -102,6 +102,10 @@ def test_more_events_than_one_buffer(tmp_path: Path) -> None:
         (["--gravity", "1", "--boundary", "periodic"], "--gravity"),
         (["--plot", "x.png"], "--plot"),
         (["--n", "0"], "--n"),
+        # The range every scenario has (found by the fuzz suite: e = 1e308 ran for ever).
+        (["--restitution", "1e308"], "--restitution"),
+        (["--restitution", "10.5"], "--restitution"),
+        (["--gravity", "1e300"], "--gravity"),
     ],
 )
 def test_bad_values_name_the_flag(argv: list[str], flag: str, tmp_path: Path) -> None:

@@ -19,6 +19,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
+from .. import limits
 from ..errors import InvalidInputError
 from ..validate import non_negative, positive, whole_number
 from .start import box_side, gaussian_velocities, lattice
@@ -67,8 +68,9 @@ class ExactGas:
         if self.boundary not in BOUNDARIES:
             raise InvalidInputError("boundary", f"must be one of {', '.join(BOUNDARIES)}", got=self.boundary)
         tc = self.tc
-        restitution = non_negative(self.restitution, "restitution")
-        gravity = non_negative(self.gravity, "gravity")
+        # The same range as every scenario (collisionlab.limits): e = 1e308 would run for ever.
+        restitution = limits.restitution(self.restitution, "restitution")
+        gravity = limits.within(non_negative(self.gravity, "gravity"), "gravity", 0.0, limits.MAX_ACCELERATION)
         if tc is None:
             tc = DEFAULT_TC if restitution < 1.0 or gravity > 0.0 else 0.0
         return ExactGas(
