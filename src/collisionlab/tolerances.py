@@ -18,6 +18,7 @@ __all__ = [
     "REST_SPEED",
     "SOLVER_MARGIN",
     "TOI_GAP",
+    "TOI_TOUCH",
 ]
 
 #: Dimensionless. Three plane points are collinear when the sine of the angle between the two
@@ -79,6 +80,13 @@ BROADPHASE_WIDEN: float = 1e-12
 #: (1e-13 m at 1e3 m). Past that scale the iteration's cap ends it a little early instead, which
 #: is conservative: the impact is resolved at a gap below ``CONTACT_MARGIN``, never after it.
 TOI_GAP: float = 1e-12
+
+#: Dimensionless. The scalar :func:`collisionlab.time_of_impact` runs the exact stepper's time of
+#: impact to a gap of 0 in a frame scaled (by powers of two) to the pair's size; when the
+#: iteration's cap ends it first, the shapes count as touching if their gap is at most this many
+#: times that size: 2^-40 ~ 9e-13, a few thousand ulp of 1.0 (the gap's own rounding is a few
+#: ulp), so a touch is accepted only at the precision of doubles. A larger gap is followed on.
+TOI_TOUCH: float = 2.0**-40
 
 #: Dimensionless. The exact stepper's approach speed ``v_n = (v_b - v_a) . n`` of a pair is taken
 #: as zero when ``|v_n|`` is at most this times ``|v_a| + |v_b|``: the rounding of the dot product

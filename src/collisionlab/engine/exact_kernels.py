@@ -222,7 +222,7 @@ def _time_of_impact(
     """The time in ``[t0, t_end)`` when pair ``(a, b)`` first comes within ``gap`` while
     approaching, or ``inf`` (conservative advancement, the module docstring's phase 3). A pair in
     contact and separating is followed until its gap along the normal closes again (a slow hop
-    under gravity), once."""
+    under gravity), once; an overlapping one until that gap is back to 0 after it has left."""
     t = t0
     jumped = False
     for _ in range(TOI_ITERATIONS):
@@ -241,7 +241,13 @@ def _time_of_impact(
                 return t
             if jumped or s2 >= 0.0:
                 return math.inf
-            t += -s1 / s2  # when the gap along n closes again: never after the true return
+            if sep[0] < -gap and s1 * s1 >= 4.0 * s2 * sep[0]:
+                # Overlapping by more than the gap (not by rounding): the later root of
+                # sep + s1 t + s2 t^2 = 0, when the gap along n is back to 0 from above
+                # (s2 < 0 < s1, so -s1 - sqrt(disc) does not cancel).
+                t += (-s1 - math.sqrt(s1 * s1 - 4.0 * s2 * sep[0])) / (2.0 * s2)
+            else:
+                t += -s1 / s2  # when the gap along n closes again: never after the true return
             jumped = True
             if t >= t_end:
                 return math.inf

@@ -19,10 +19,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import Scenario
-from ..shapes import AABB, Circle
+from ..shapes import AABB, Circle, Line, Plane, Shape
 from . import step_kernels as sk
 
-__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "statics_of"]
+__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "body_row", "static_row", "statics_of"]
+
+Triple = tuple[float, float, float]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -58,6 +60,29 @@ class StaticArrays:
         return int(self.kind.shape[0])
 
 
+def body_row(shape: Shape) -> tuple[int, Triple]:
+    """A moving shape's ``kind`` and half extents ``ext`` (its centre is its ``pos``).
+
+    >>> body_row(AABB((0, 0), (2, 4)))[1], body_row(Circle((0, 0), 0.5))[1]
+    ((1.0, 2.0, 0.0), (0.5, 0.5, 0.5))
+    """
+    if isinstance(shape, AABB):
+        return (sk.BOX_2D if shape.dim == 2 else sk.BOX_3D), shape.half_size.as_tuple()
+    if isinstance(shape, (Line, Plane)):
+        raise TypeError(f"a {type(shape).__name__} cannot move: it is a static obstacle")
+    return (sk.BALL_2D if isinstance(shape, Circle) else sk.BALL_3D), (shape.radius,) * 3
+
+
+def static_row(shape: Shape) -> tuple[int, Triple, Triple]:
+    """A static shape's ``s_kind``, ``s_a`` and ``s_b``: a box's two corners, or a line's or
+    plane's point and unit normal."""
+    if isinstance(shape, AABB):
+        return sk.STATIC_BOX, shape.min_corner.as_tuple(), shape.max_corner.as_tuple()
+    if isinstance(shape, (Line, Plane)):
+        return sk.STATIC_BOUNDARY, shape.point.as_tuple(), shape.unit_normal.as_tuple()
+    raise TypeError(f"a {type(shape).__name__} cannot be a static obstacle")
+
+
 def bodies_of(scenario: Scenario) -> BodyArrays:
     """The scenario's moving bodies as arrays, in the order given."""
     n = len(scenario.bodies)
@@ -68,13 +93,7 @@ def bodies_of(scenario: Scenario) -> BodyArrays:
     ima = np.zeros(n)
     eb = np.full(n, math.nan)
     for i, body in enumerate(scenario.bodies):
-        shape = body.shape
-        if isinstance(shape, AABB):
-            kind[i] = sk.BOX_2D if shape.dim == 2 else sk.BOX_3D
-            ext[i] = shape.half_size.as_tuple()
-        else:
-            kind[i] = sk.BALL_2D if isinstance(shape, Circle) else sk.BALL_3D
-            ext[i] = (shape.radius,) * 3
+        kind[i], ext[i] = body_row(body.shape)
         pos[i] = body.position.as_tuple()
         vel[i] = body.velocity.as_tuple()
         ima[i] = 1.0 / body.mass
@@ -91,15 +110,7 @@ def statics_of(scenario: Scenario) -> StaticArrays:
     b = np.zeros((m, 3))
     e = np.full(m, math.nan)
     for s, obstacle in enumerate(scenario.obstacles):
-        shape = obstacle.shape
-        if isinstance(shape, AABB):
-            kind[s] = sk.STATIC_BOX
-            a[s] = shape.min_corner.as_tuple()
-            b[s] = shape.max_corner.as_tuple()
-        else:
-            kind[s] = sk.STATIC_BOUNDARY
-            a[s] = shape.point.as_tuple()
-            b[s] = shape.unit_normal.as_tuple()
+        kind[s], a[s], b[s] = static_row(obstacle.shape)
         if obstacle.restitution is not None:
             e[s] = obstacle.restitution
     return StaticArrays(kind, a, b, e)
