@@ -28,7 +28,12 @@ import time
 from pathlib import Path
 from typing import Any
 
-PEER = Path(__file__).resolve().parents[1].parent.parent / "shared" / "peers" / "edmd" / "run.sh"
+#: The peer's script: ``shared/peers/edmd/run.sh`` beside the checkout (at whatever depth it sits).
+_PEER_SCRIPT = Path("shared", "peers", "edmd", "run.sh")
+PEER = next(
+    (folder / _PEER_SCRIPT for folder in Path(__file__).resolve().parents if (folder / _PEER_SCRIPT).exists()),
+    Path("..") / _PEER_SCRIPT,
+)
 
 #: (dim, N, packing fraction, the peer's simulated time (ours is twice it; the peer needs >= 2: it reports once
 #: per unit of time), whether the peer runs it too)

@@ -323,6 +323,16 @@ def test_a_graze_is_not_an_impact_but_a_near_graze_is() -> None:
     assert impact == Impact(0.0, Vector3D(0, 0, 1), True)
 
 
+def test_a_box_of_no_extent_is_a_point() -> None:
+    # A point box at the origin falls at speed 1 onto a plane 5 below: t = 5, from above.
+    point = AABB((0, 0, 1), (0, 0, 1))
+    impact = time_of_impact(Plane((0, 0, -4), (0, 0, 1)), point, ZERO, (0, 0, -1), 10)
+    assert impact == Impact(5.0, Vector3D(0, 0, 1), False)
+    # Against a ball of radius 1 centred 3 below: the gap 3 - 1 = 2 closes at 1, t = 2; B is above A.
+    impact = time_of_impact(Sphere((0, 0, -2), 1), point, ZERO, (0, 0, -1), 10)
+    assert impact == Impact(2.0, Vector3D(0, 0, 1), False)
+
+
 def test_max_time_bounds_are_inclusive() -> None:
     a, b = Circle((0, 0), 1), Circle((5, 0), 1)
     impact = time_of_impact(a, b, ZERO, (-2, 0), 1.5)

@@ -166,6 +166,12 @@ def _key(shape: Shape) -> tuple[tuple[float, ...], ...]:
     return shape.point.as_tuple(), shape.unit_normal.as_tuple()
 
 
+def _centre(shape: Shape) -> Vector3D:
+    if isinstance(shape, (Line, Plane)):
+        raise UnsupportedPairError(f"a {type(shape).__name__} cannot be the moving shape B of a pair")
+    return shape.center
+
+
 def _search(a: Shape, b: Shape, velocity: Vector3D, acceleration: Vector3D, max_time: float) -> Impact | None:
     """Run the exact stepper's time of impact on A (at rest, at the origin) and B (moving with
     the relative motion), in the scaled frame of the module docstring. Two shapes of one type are
@@ -174,36 +180,35 @@ def _search(a: Shape, b: Shape, velocity: Vector3D, acceleration: Vector3D, max_
         impact = _search(b, a, -velocity, -acceleration, max_time)
         return None if impact is None else impact.flipped()
     static = isinstance(a, (Line, Plane))
-    origin = a.point.as_tuple() if static else a.center.as_tuple()  # type: ignore[union-attr]
+    origin = a.point if isinstance(a, (Line, Plane)) else a.center
+    kind_a, ext_a = (0, (0.0, 0.0, 0.0)) if static else body_row(a)
     kind_b, ext_b = body_row(b)
     with np.errstate(over="ignore", invalid="ignore"):
-        offset = np.subtract(b.center.as_tuple(), origin)  # type: ignore[union-attr]
-        extents = [*ext_b] if static else [*ext_b, *body_row(a)[1]]
+        offset = np.subtract(_centre(b).as_tuple(), origin.as_tuple())  # may overflow: checked below
+        extents = [*ext_a, *ext_b]
         size = _power_of_two(max(float(np.max(np.abs(offset))), *extents))
         span = _power_of_two(max_time) if max_time > 0.0 else 1.0
         vel = np.array(velocity.as_tuple()) * span / size
         acc = np.array(acceleration.as_tuple()) * (span * span) / size
-    moving = np.concatenate([offset / size, vel])
-    smallest = min(x for x in extents if x > 0.0) / size
+    smallest = min((x for x in extents if x > 0.0), default=size) / size  # a point box has no extent
     if (
-        not np.all(np.abs(moving) < _LARGEST_SCALED)
+        not np.all(np.abs(np.concatenate([offset / size, vel])) < _LARGEST_SCALED)
         or not np.all(np.abs(acc) < _LARGEST_SCALED_ACCELERATION)
         or smallest < _SMALLEST_SCALED
     ):
         raise _too_large()
     rows = 1 if static else 2
-    kind = np.zeros(rows, np.int64)
+    kind = np.full(rows, kind_b, np.int64)
     pos = np.zeros((rows, 3))
     vels = np.zeros((rows, 3))
     accs = np.zeros((rows, 3))
     ext = np.zeros((rows, 3))
-    kind[-1], ext[-1] = kind_b, np.divide(ext_b, size)
-    pos[-1], vels[-1], accs[-1] = offset / size, vel, acc
+    pos[-1], vels[-1], accs[-1], ext[-1] = offset / size, vel, acc, np.divide(ext_b, size)
     s_kind, s_a, s_b = np.zeros(1, np.int64), np.zeros((1, 3)), np.zeros((1, 3))
     if static:
         s_kind[0], _, s_b[0] = static_row(a)  # its point is the origin
     else:
-        kind[0], ext[0] = body_row(a)[0], np.divide(body_row(a)[1], size)
+        kind[0], ext[0] = kind_a, np.divide(ext_a, size)
     ia, ib = (-1, 0) if static else (0, 1)
     state = (kind, pos, vels, accs, np.zeros(rows), ext, s_kind, s_a, s_b, ia, ib)
     k2, p2, v2, e2 = np.zeros(2, np.int64), np.zeros((2, 3)), np.zeros((2, 3)), np.zeros((2, 3))
