@@ -215,10 +215,11 @@ def _search(a: Shape, b: Shape, velocity: Vector3D, acceleration: Vector3D, max_
     end = math.nextafter(max_time / span, math.inf)  # max_time itself included
     t = 0.0
     for _ in range(_ROUNDS):
-        reached = ek._time_of_impact(*state, t, end, k2, p2, v2, e2, 0.0)
-        if reached == math.inf:
-            return None
-        sep = ek._separation_at(*state, reached, k2, p2, v2, e2)
+        with np.errstate(all="ignore"):  # a root beyond the range is inf (no touch), as compiled
+            reached = ek._time_of_impact(*state, t, end, k2, p2, v2, e2, 0.0)
+            if reached == math.inf:
+                return None
+            sep = ek._separation_at(*state, reached, k2, p2, v2, e2)
         if not all(math.isfinite(x) for x in sep[:4]):
             raise _too_large()
         if sep[0] <= TOI_TOUCH or reached <= t:
