@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import json
+import math
+import re
 import sys
 
+import numpy as np
 import pandas as pd
 import pytest
 
 from collisionlab.demos import load_demo
 from collisionlab.errors import InvalidInputError
-from collisionlab.record import RunRecord
+from collisionlab.record import EventBlock, RunRecord
 from collisionlab.vector import Vector3D
 from collisionlab.world import simulate
 
@@ -85,3 +89,83 @@ def test_jupyter_shows_the_plot_as_png(spheres: RunRecord) -> None:
         bare.plot()
     figure = spheres.plot(size=(400, 300))
     assert tuple(figure.get_size_inches() * figure.dpi) == (400, 300)
+
+
+# --- EventBlock: a world's events as columns --------------------------------------------------
+def _block(rows: int, seed: int) -> EventBlock:
+    """A block of random events, some against an obstacle, with signed zeros and odd names."""
+    rng = np.random.default_rng(seed)
+    names = ['ball "a"', "bällchen", "c\\d"]
+    a = rng.integers(-2, 3, rows)
+    b = rng.integers(0, 3, rows)
+    a = np.where(a == b, -1, a)
+
+    def vectors() -> np.ndarray:
+        v = rng.normal(size=(rows, 3))
+        v[rng.random((rows, 3)) < 0.2] = -0.0
+        return v
+
+    return EventBlock(
+        step=rng.integers(1, 10_000, rows),
+        time=rng.random(rows) * 100,
+        a=a,
+        b=b,
+        normal=vectors(),
+        point=vectors(),
+        approach_speed=-rng.random(rows),
+        impulse=rng.random(rows),
+        restitution=rng.choice([0.0, 0.5, 1.0], rows),
+        below_rest=rng.integers(0, 2, rows),
+        before_a=vectors(),
+        before_b=vectors(),
+        after_a=vectors(),
+        after_b=vectors(),
+        names=names,
+        static_names=["floor", "wall ☃"],
+        masses=np.array([1.0, 2.5, math.inf]),
+    )
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_event_block_json_is_what_the_json_module_writes(seed: int) -> None:
+    block = _block(200, seed)
+    lines = block.json_lines()
+    assert lines == [json.dumps(event.to_dict()) for event in block]  # the json module is the oracle
+    assert not re.search(r"-0\.0(?![0-9])", "".join(lines))  # signed zeros were written 0.0
+
+
+def test_event_block_builds_events_on_demand() -> None:
+    # One ball (1 kg) bouncing off the floor and two balls (1 and 2.5 kg) meeting: kinetic
+    # energies worked by hand: 1/2 * 1 * 2^2 = 2 J before, 1/2 * 1 * 1^2 = 0.5 J after; the pair
+    # 1/2 * 1 * 1 + 1/2 * 2.5 * 0 = 0.5 J before, 1/2 * 1 * 0.25 + 1/2 * 2.5 * 0.04 = 0.175 J after.
+    z = np.zeros(3)
+    block = EventBlock(
+        step=np.array([3, 7]),
+        time=np.array([0.03, 0.07]),
+        a=np.array([-1, 0]),
+        b=np.array([0, 1]),
+        normal=np.array([[0.0, 1, 0], [1.0, 0, 0]]),
+        point=np.zeros((2, 3)),
+        approach_speed=np.array([-2.0, -1.0]),
+        impulse=np.array([3.0, 0.5]),
+        restitution=np.array([0.5, 0.5]),
+        below_rest=np.array([0, 1]),
+        before_a=np.array([z, [1.0, 0, 0]]),
+        before_b=np.array([[0.0, -2, 0], z]),
+        after_a=np.array([z, [0.5, 0, 0]]),
+        after_b=np.array([[0.0, 1, 0], [0.2, 0, 0]]),
+        names=["a", "b"],
+        static_names=["floor"],
+        masses=np.array([1.0, 2.5]),
+    )
+    assert len(block) == 2
+    wall, pair = block
+    assert wall.bodies == ("floor", "a") and wall.static and wall.masses == (math.inf, 1.0)
+    assert wall.velocities_after == {"a": Vector3D(0, 1, 0)}
+    assert (wall.kinetic_energy_before, wall.kinetic_energy_after) == (2.0, 0.5)
+    assert pair.bodies == ("a", "b") and not pair.static and pair.below_rest_threshold
+    assert list(pair.velocities_before) == ["a", "b"]
+    assert pair.kinetic_energy_before == 0.5 and math.isclose(pair.kinetic_energy_after, 0.175)
+    assert block[-1] == pair and block[0:1] == [wall]
+    with pytest.raises(IndexError):
+        block[2]

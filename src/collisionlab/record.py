@@ -5,8 +5,14 @@ One record feeds every output (table, CSV, JSON, plots), so nothing is simulated
 
 from __future__ import annotations
 
+import json
+import math
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal, Protocol
+from typing import TYPE_CHECKING, Any, Literal, Protocol, overload
+
+import numpy as np
+from numpy.typing import NDArray
 
 from .vector import Vector3D
 
@@ -16,7 +22,16 @@ if TYPE_CHECKING:
 
     from .model import Scenario
 
-__all__ = ["BodyState", "CollisionEvent", "Frame", "Ledger", "RunObserver", "RunRecord", "SkippedContact"]
+__all__ = [
+    "BodyState",
+    "CollisionEvent",
+    "EventBlock",
+    "Frame",
+    "Ledger",
+    "RunObserver",
+    "RunRecord",
+    "SkippedContact",
+]
 
 
 def _vec(v: Vector3D) -> list[float]:
@@ -100,6 +115,175 @@ class CollisionEvent:
         }
 
 
+#: One line of JSON per event, as ``json.dumps(event.to_dict())`` writes it: the template of a
+#: pair of bodies and of a body against an obstacle (which has only the body's velocities).
+_PAIR_JSON = (
+    '{"step": %d, "time": %r, "bodies": [%s, %s], "static": false, "normal": [%r, %r, %r], '
+    '"point": [%r, %r, %r], "approach_speed": %r, "impulse": %r, "restitution": %r, '
+    '"velocities_before": {%s: [%r, %r, %r], %s: [%r, %r, %r]}, '
+    '"velocities_after": {%s: [%r, %r, %r], %s: [%r, %r, %r]}, '
+    '"kinetic_energy_before": %r, "kinetic_energy_after": %r, "below_rest_threshold": %s}'
+)
+_STATIC_JSON = (
+    '{"step": %d, "time": %r, "bodies": [%s, %s], "static": true, "normal": [%r, %r, %r], '
+    '"point": [%r, %r, %r], "approach_speed": %r, "impulse": %r, "restitution": %r, '
+    '"velocities_before": {%s: [%r, %r, %r]}, "velocities_after": {%s: [%r, %r, %r]}, '
+    '"kinetic_energy_before": %r, "kinetic_energy_after": %r, "below_rest_threshold": %s}'
+)
+
+
+class EventBlock(Sequence[CollisionEvent]):
+    """Collision events as columns of numbers, one row per event, in the order they happened:
+    how a world hands over a stretch of its run. ``block[i]`` (and iteration) builds the
+    :class:`CollisionEvent`; :meth:`json_lines` writes the JSON form of every event without
+    building them (a run of a heap of balls makes millions).
+
+    ``a`` and ``b`` are indices into ``names`` (``a < 0``: the obstacle ``static_names[-1 - a]``),
+    ``masses`` the bodies' masses in the order of ``names``; ``normal``, ``point``,
+    ``before_a``, ``before_b``, ``after_a`` and ``after_b`` have three columns (an obstacle's
+    velocities are rows of zeros, unused); ``below_rest`` is 0 or 1.
+
+    >>> import numpy as np
+    >>> one = lambda *v: np.array([v], dtype=np.float64)
+    >>> block = EventBlock(np.array([5]), np.array([0.5]), np.array([-1]), np.array([0]), one(0, 1, 0),
+    ...     one(0, 0, 0), np.array([-1.0]), np.array([1.5]), np.array([0.5]), np.array([0]), one(0, 0, 0),
+    ...     one(0, -1, 0), one(0, 0, 0), one(0, 0.5, 0), ["ball"], ["floor"], np.array([1.0]))
+    >>> block[0].bodies, block[0].velocities_after, block[0].kinetic_energy_after
+    (('floor', 'ball'), {'ball': Vector3D(x=0.0, y=0.5, z=0.0)}, 0.125)
+    >>> import json; json.loads(block.json_lines()[0]) == block[0].to_dict()
+    True
+    """
+
+    def __init__(
+        self,
+        step: NDArray[np.int64],
+        time: NDArray[np.float64],
+        a: NDArray[np.int64],
+        b: NDArray[np.int64],
+        normal: NDArray[np.float64],
+        point: NDArray[np.float64],
+        approach_speed: NDArray[np.float64],
+        impulse: NDArray[np.float64],
+        restitution: NDArray[np.float64],
+        below_rest: NDArray[np.int64],
+        before_a: NDArray[np.float64],
+        before_b: NDArray[np.float64],
+        after_a: NDArray[np.float64],
+        after_b: NDArray[np.float64],
+        names: Sequence[str],
+        static_names: Sequence[str],
+        masses: NDArray[np.float64],
+    ) -> None:
+        self.step, self.time, self.a, self.b = step, time, a, b
+        self.normal, self.point = normal, point
+        self.approach_speed, self.impulse, self.restitution, self.below_rest = (
+            approach_speed,
+            impulse,
+            restitution,
+            below_rest,
+        )
+        self.before_a, self.before_b, self.after_a, self.after_b = before_a, before_b, after_a, after_b
+        self.names, self.static_names, self.masses = names, static_names, masses
+        # Kinetic energy of the pair before and after (an obstacle's, a kinematic body's: none).
+        finite = np.where(np.isfinite(masses), masses, 0.0)
+        m_a = np.where(a >= 0, finite[np.maximum(a, 0)], 0.0) if len(masses) else np.zeros(len(a))
+        m_b = finite[b] if len(masses) else np.zeros(len(b))
+
+        def kinetic(va: NDArray[np.float64], vb: NDArray[np.float64]) -> NDArray[np.float64]:
+            return np.asarray(0.5 * (m_a * np.einsum("ij,ij->i", va, va) + m_b * np.einsum("ij,ij->i", vb, vb)))
+
+        self.kinetic_before = kinetic(before_a, before_b)
+        self.kinetic_after = kinetic(after_a, after_b)
+
+    def __len__(self) -> int:
+        return int(self.step.shape[0])
+
+    @overload
+    def __getitem__(self, index: int) -> CollisionEvent: ...
+
+    @overload
+    def __getitem__(self, index: slice) -> Sequence[CollisionEvent]: ...
+
+    def __getitem__(self, index: int | slice) -> CollisionEvent | Sequence[CollisionEvent]:
+        if isinstance(index, slice):
+            return [self._event(i) for i in range(*index.indices(len(self)))]
+        if not -len(self) <= index < len(self):
+            raise IndexError("event index out of range")
+        return self._event(index % len(self))
+
+    def __iter__(self) -> Iterator[CollisionEvent]:
+        return (self._event(i) for i in range(len(self)))
+
+    def _name(self, i: int) -> str:
+        return self.static_names[-1 - i] if i < 0 else self.names[i]
+
+    def _event(self, k: int) -> CollisionEvent:
+        a, b = int(self.a[k]), int(self.b[k])
+        names = (self._name(a), self._name(b))
+        static = a < 0
+        before = {names[1]: Vector3D(*self.before_b[k].tolist())}
+        after = {names[1]: Vector3D(*self.after_b[k].tolist())}
+        if not static:  # A's velocities first, as the JSON lists them
+            before = {names[0]: Vector3D(*self.before_a[k].tolist()), **before}
+            after = {names[0]: Vector3D(*self.after_a[k].tolist()), **after}
+        return CollisionEvent(
+            step=int(self.step[k]),
+            time=float(self.time[k]),
+            bodies=names,
+            static=static,
+            normal=Vector3D(*self.normal[k].tolist()),
+            point=Vector3D(*self.point[k].tolist()),
+            approach_speed=float(self.approach_speed[k]),
+            impulse=float(self.impulse[k]),
+            restitution=float(self.restitution[k]),
+            masses=(math.inf if static else float(self.masses[a]), float(self.masses[b])),
+            velocities_before=before,
+            velocities_after=after,
+            kinetic_energy_before=float(self.kinetic_before[k]),
+            kinetic_energy_after=float(self.kinetic_after[k]),
+            below_rest_threshold=bool(self.below_rest[k]),
+        )
+
+    def json_lines(self) -> list[str]:
+        """Each event's JSON (no newline), the same text as ``json.dumps(event.to_dict())``."""
+        if not len(self):
+            return []
+        quoted = {i: json.dumps(self._name(i)) for i in set(self.a.tolist()) | set(self.b.tolist())}
+        # Rows of Python floats (``+ 0.0``: no signed zero, as to_dict writes them).
+        numbers = np.column_stack(
+            (
+                self.time,
+                self.normal,
+                self.point,
+                self.approach_speed,
+                self.impulse,
+                self.restitution,
+                self.before_a,
+                self.before_b,
+                self.after_a,
+                self.after_b,
+                self.kinetic_before,
+                self.kinetic_after,
+            )
+        )
+        rows = (numbers + 0.0).tolist()
+        lines = []
+        for step, a, b, below, r in zip(
+            self.step.tolist(), self.a.tolist(), self.b.tolist(), self.below_rest.tolist(), rows, strict=True
+        ):
+            qa, qb = quoted[a], quoted[b]
+            flag = "true" if below else "false"
+            if a < 0:
+                lines.append(
+                    _STATIC_JSON % (step, r[0], qa, qb, *r[1:10], qb, *r[13:16], qb, *r[19:22], r[22], r[23], flag)
+                )
+            else:
+                before = (qa, *r[10:13], qb, *r[13:16])
+                after = (qa, *r[16:19], qb, *r[19:22])
+                lines.append(_PAIR_JSON % (step, r[0], qa, qb, *r[1:10], *before, *after, r[22], r[23], flag))
+        return lines
+
+
 @dataclass(frozen=True)
 class SkippedContact:
     """A contact that got no impulse, and why ("separating", "resting")."""
@@ -172,13 +356,15 @@ class RunObserver(Protocol):
     order: :meth:`begin` (the record: title, settings, the warnings known at the start), then
     frames, events and warnings as they are produced, then :meth:`end` (the ledger is final).
     Events come in step order, each batch with the step the world has reached (a frame of that
-    step may follow). The CLI's writers are observers, so nothing need be held until the end."""
+    step may follow); a world hands them over as an :class:`EventBlock` (columns of numbers,
+    events built only when read). The CLI's writers are observers, so nothing need be held until
+    the end."""
 
     def begin(self, record: RunRecord) -> None: ...
 
     def frame(self, frame: Frame) -> None: ...
 
-    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None: ...
+    def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None: ...
 
     def warning(self, text: str) -> None: ...
 

@@ -8,10 +8,10 @@ import io
 import json
 import math
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import IO, Any, TextIO
 
-from ..record import CollisionEvent, Frame, RunObserver, RunRecord, SkippedContact
+from ..record import CollisionEvent, EventBlock, Frame, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
 
@@ -154,7 +154,7 @@ class TableWriter:
                 self._out.write(_row(frame, self._dims) + "\n")
         self._flush(frame.step + 1)
 
-    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
+    def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         by_step: dict[int, list[str]] = {}
         for event in events:
             by_step.setdefault(event.step, []).extend(_event_lines(event, self._dims, self._explain))
@@ -199,7 +199,7 @@ class CsvWriter:
             row += [f"{c:.15g}" for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
         self._writer.writerow(row)
 
-    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
+    def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         pass
 
     def warning(self, text: str) -> None:
@@ -259,10 +259,13 @@ class JsonWriter:
         self._out.write(("\n  " if self._frames == 0 else ",\n  ") + _dumps_item(frame))
         self._frames += 1
 
-    def events(self, events: list[CollisionEvent], skipped: list[SkippedContact], reached: int) -> None:
+    def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         for key, items in (("events", events), ("skipped", skipped)):
             spool, count = self._spools[key]
-            spool.writelines(_dumps_item(item) + "\n" for item in items)
+            if isinstance(items, EventBlock):  # a world's events: written from their columns
+                spool.writelines(line + "\n" for line in items.json_lines())
+            else:
+                spool.writelines(_dumps_item(item) + "\n" for item in items)
             count[0] += len(items)
 
     def warning(self, text: str) -> None:

@@ -19,7 +19,6 @@ scenario says ``allow_initial_overlap``: then the first step resolves them and a
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from typing import Any
@@ -29,7 +28,7 @@ import numpy as np
 from .. import limits
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..record import BodyState, CollisionEvent, Frame, RunObserver, RunRecord, SkippedContact
+from ..record import BodyState, EventBlock, Frame, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import exact_kernels, step_kernels
 from .exact_kernels import MAX_IMPACTS_PER_STEP
@@ -316,66 +315,42 @@ class World:
         self._record_events(self._stepper.events())
 
     def _record_events(self, events: np.ndarray[Any, np.dtype[np.float64]]) -> None:
-        """The kernel's event rows as :class:`CollisionEvent` and :class:`SkippedContact`."""
+        """The kernel's event rows (``step_kernels.EVENT_COLUMNS``) as an :class:`EventBlock` of
+        collisions and a list of :class:`SkippedContact`, recorded and told to the observer."""
         if events.shape[0] == 0:
             return
-        # Kinetic energies of each pair before and after, for all rows at once (a kinematic
-        # body's or an obstacle's counts as none).
-        ids_a = events[:, 3].astype(np.int64)
-        ids_b = events[:, 4].astype(np.int64)
-        mass = np.where(np.isfinite(self._mass_array), self._mass_array, 0.0)
-        m_a = np.where(ids_a >= 0, mass[np.maximum(ids_a, 0)], 0.0)
-        m_b = mass[ids_b]
-
-        def kinetic(first: int) -> np.ndarray[Any, np.dtype[np.float64]]:
-            va, vb = events[:, first : first + 3], events[:, first + 3 : first + 6]
-            return np.asarray(0.5 * (m_a * np.einsum("ij,ij->i", va, va) + m_b * np.einsum("ij,ij->i", vb, vb)))
-
-        before_all, after_all = kinetic(14).tolist(), kinetic(20).tolist()
-        found: list[CollisionEvent] = []
-        skipped: list[SkippedContact] = []
-        for row, ke_before, ke_after in zip(events.tolist(), before_all, after_all, strict=True):
-            a, b_id = int(row[3]), int(row[4])
-            names = self._pair_names(a, b_id)
-            step, time = int(row[1]), row[2]
-            if row[0] == step_kernels.EVENT_SKIPPED:
-                skipped.append(SkippedContact(step, time, names, "separating"))
-                continue
-            static = a < 0
-            vb_before = Vector3D(row[17], row[18], row[19])
-            vb_after = Vector3D(row[23], row[24], row[25])
-            if static:
-                before = {names[1]: vb_before}
-                after = {names[1]: vb_after}
-            else:
-                before = {names[0]: Vector3D(row[14], row[15], row[16]), names[1]: vb_before}
-                after = {names[0]: Vector3D(row[20], row[21], row[22]), names[1]: vb_after}
-            found.append(
-                CollisionEvent(
-                    step=step,
-                    time=time,
-                    bodies=names,
-                    static=static,
-                    normal=Vector3D(row[5], row[6], row[7]),
-                    point=Vector3D(row[8], row[9], row[10]),
-                    approach_speed=row[11],
-                    impulse=row[12],
-                    restitution=row[13],
-                    masses=(math.inf if static else self._masses[a], self._masses[b_id]),
-                    velocities_before=before,
-                    velocities_after=after,
-                    kinetic_energy_before=ke_before,
-                    kinetic_energy_after=ke_after,
-                    below_rest_threshold=row[0] == step_kernels.EVENT_BELOW_REST,
-                )
-            )
+        skipping = events[:, 0] == step_kernels.EVENT_SKIPPED
+        skipped = [
+            SkippedContact(int(row[1]), row[2], self._pair_names(int(row[3]), int(row[4])), "separating")
+            for row in events[skipping].tolist()
+        ]
+        rows = events[~skipping]
+        block = EventBlock(
+            step=rows[:, 1].astype(np.int64),
+            time=rows[:, 2],
+            a=rows[:, 3].astype(np.int64),
+            b=rows[:, 4].astype(np.int64),
+            normal=rows[:, 5:8],
+            point=rows[:, 8:11],
+            approach_speed=rows[:, 11],
+            impulse=rows[:, 12],
+            restitution=rows[:, 13],
+            below_rest=(rows[:, 0] == step_kernels.EVENT_BELOW_REST).astype(np.int64),
+            before_a=rows[:, 14:17],
+            before_b=rows[:, 17:20],
+            after_a=rows[:, 20:23],
+            after_b=rows[:, 23:26],
+            names=self._names,
+            static_names=self._static_names,
+            masses=self._mass_array,
+        )
         self._stepper.release_events()
-        self.record.collision_count += len(found)
+        self.record.collision_count += len(block)
         if self._keep:
-            self.record.events.extend(found)
+            self.record.events.extend(block)
             self.record.skipped.extend(skipped)
         if self._observer is not None:
-            self._observer.events(found, skipped, self.step_index)
+            self._observer.events(block, skipped, self.step_index)
 
     # --- running --------------------------------------------------------------------------------
     def run(
