@@ -9,15 +9,15 @@ import signal
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from collisionlab.cli import main
 from collisionlab.cli import progress as progress_module
-from collisionlab.cli.gas_command import CHUNK_SECONDS, step_in_chunks
 from collisionlab.cli.interrupts import Pending
 from collisionlab.cli.streams import Streams
-from collisionlab.particles.world import StepReport
+from collisionlab.engine import WorldParams
+from collisionlab.engine.world import CHUNK_SECONDS, World
+from collisionlab.particles import gas_scenario
 from tests.cli_helpers import finish, on_a_terminal, read_until
 from tests.schema_check import check
 
@@ -101,7 +101,7 @@ def test_progress_bar_only_on_a_terminal(
 
 
 def test_restitution_above_one_is_allowed_with_a_warning_and_adds_energy() -> None:
-    status, out, err = run(["--n", "300", "--steps", "200", "--restitution", "1.5", "--format", "json"])
+    status, out, err = run(["--n", "300", "--steps", "50", "--restitution", "1.5", "--format", "json"])
     assert status == 0
     assert "adds kinetic energy" in err
     assert json.loads(out)["energy_drift"] > 0
@@ -126,46 +126,53 @@ def test_magnitudes_out_of_range_are_refused_naming_the_flag(argv: list[str], fl
 
 def test_energy_that_grows_out_of_range_stops_the_run_with_status_65() -> None:
     # e = 10 multiplies a pair's approach speed by 10 at each collision: within a few thousand
-    # steps speeds pass 1e100 (and would reach inf, then NaN, and the compiled kernel would hang).
+    # steps speeds pass the 1e12 every run is bounded by (and would reach inf, then NaN, and the
+    # compiled kernel would hang).
     status, out, err = run(["--n", "300", "--steps", "3000", "--restitution", "10", "--format", "json"])
     assert status == 65 and out == ""
     assert "too large to simulate" in err.splitlines()[-1]
 
 
-class _FakeWorld:
-    """Steps take 0.01 s each on a fake clock; records the chunk sizes asked for."""
+class _Chunks:
+    """A clock on which each step of ``world`` takes 0.01 s, and the chunk sizes it was asked for."""
 
-    restitution = 1.0
-
-    def __init__(self, clock: list[float]) -> None:
-        self.clock = clock
+    def __init__(self, world: World) -> None:
+        self.world = world
         self.chunks: list[int] = []
-        self.velocities = np.zeros((2, 2))
 
-    def step(self, dt: float, count: int) -> StepReport:
-        self.chunks.append(count)
-        self.clock[0] += 0.01 * count
-        return StepReport(count, 1, 0)
+    def clock(self) -> float:
+        return 0.01 * self.world.step_index
+
+    def between(self, done: int, total: int) -> None:
+        self.chunks.append(done - sum(self.chunks))
+
+
+def _gas_world() -> World:
+    return World(gas_scenario(200, 2, seed=1).scenario(1000), WorldParams(compiled=True), events=False)
 
 
 def test_steps_go_in_chunks_of_a_fraction_of_a_second() -> None:
-    clock = [0.0]
-    world = _FakeWorld(clock)
-    report = step_in_chunks(world, 0.1, 1000, Pending(), clock=lambda: clock[0])  # type: ignore[arg-type]
-    assert report == StepReport(1000, sum(1 for _ in world.chunks), 0)
-    assert sum(world.chunks) == 1000
-    assert max(world.chunks) * 0.01 <= CHUNK_SECONDS + 1e-12  # each chunk lasts at most 0.1 s
-    assert world.chunks[:4] == [1, 2, 4, 8]  # from one step, doubling up to the target
+    world = _gas_world()
+    chunks = _Chunks(world)
+    world.advance(1000, chunks.between, chunks.clock)
+    assert sum(chunks.chunks) == 1000 == world.step_index
+    assert max(chunks.chunks) * 0.01 <= CHUNK_SECONDS + 1e-12  # no chunk lasts longer than the target
+    assert chunks.chunks[:4] == [1, 4, 16, 25]  # from one step, growing up to the target (0.25 s: 25 steps)
 
 
 def test_an_interrupt_noted_during_a_chunk_stops_after_it() -> None:
-    clock = [0.0]
-    world = _FakeWorld(clock)
+    world = _gas_world()
+    chunks = _Chunks(world)
     pending = Pending()
     pending.note(signal.SIGINT, None)
+
+    def between(done: int, total: int) -> None:
+        chunks.between(done, total)
+        pending.check()
+
     with pytest.raises(KeyboardInterrupt):
-        step_in_chunks(world, 0.1, 10**6, pending, clock=lambda: clock[0])  # type: ignore[arg-type]
-    assert world.chunks == [1]
+        world.advance(1000, between, chunks.clock)
+    assert chunks.chunks == [1] and world.step_index == 1
 
 
 @pytest.mark.parametrize(("backend", "quiet"), [("numba", True), ("python", False)])

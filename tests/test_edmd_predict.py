@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from collisionlab.edmd.cells import nearest_image
-from collisionlab.edmd.predict import ceiling_time, contact_time, floor_time, leave_time, pair_time, wall_time
+from collisionlab.edmd.predict import ceiling_time, contact_time, floor_time, leave_time, wall_time
 
 
 @pytest.mark.parametrize(
@@ -28,27 +28,32 @@ from collisionlab.edmd.predict import ceiling_time, contact_time, floor_time, le
         ((0.0, 0.0, 5.0, 0.0, 0.0, -2.0, 4.0), 1.5),
     ],
 )
-def test_pair_time(args: tuple[float, ...], expected: float) -> None:
-    assert pair_time(*args, math.inf) == pytest.approx(expected, rel=1e-15, abs=0.0)
+def test_contact_time(args: tuple[float, ...], expected: float) -> None:
+    assert contact_time(*args) == pytest.approx(expected, rel=1e-15, abs=0.0)
 
 
-def test_contact_time_is_pair_time_without_tmin() -> None:
-    # the branch-free form the event loop uses: bit for bit the same time, hits, misses and overlaps
+def test_contact_time_is_the_first_touch() -> None:
+    # The oracle is the geometry, not the formula: at the time returned the centres are sigma = 2
+    # apart, and at every earlier time sampled they are farther; "never" means no sample comes
+    # within sigma over a long span.
     rng = np.random.default_rng(7)
-    for row in rng.uniform(-3.0, 3.0, size=(2000, 6)):
-        args = (*(float(x) for x in row), 4.0)
-        assert contact_time(*args) == pair_time(*args, math.inf)
-    assert contact_time(1.9999999, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0) == 0.0
+    times = np.linspace(0.0, 50.0, 20_001)
+    for row in rng.uniform(-3.0, 3.0, size=(500, 6)):
+        d, w = row[:3], row[3:]
+        if float(d @ d) <= 4.0:
+            continue  # touching or overlapping: tested above
+        t = contact_time(*(float(x) for x in row), 4.0)
+        gaps = np.linalg.norm(d + np.outer(times, w), axis=1)
+        if t == math.inf:
+            assert gaps.min() > 2.0 - 1e-3 or float(d @ w) >= 0.0
+        else:
+            assert float(np.linalg.norm(d + t * w)) == pytest.approx(2.0, rel=1e-12)
+            assert np.all(gaps[times < t * (1 - 1e-9)] > 2.0 - 1e-9)
 
 
-def test_pair_time_is_pruned_beyond_tmin() -> None:
-    assert pair_time(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0, 0.5) == math.inf  # true time 1 > 0.5
-    assert pair_time(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0, 1.5) == 1.0
-
-
-def test_pair_time_just_apart_has_no_cancellation() -> None:
+def test_contact_time_just_apart_has_no_cancellation() -> None:
     # gap 1e-12 at speed 1: t = 1e-12 to full precision (the textbook root would lose 4 digits)
-    t = pair_time(2.0 + 1e-12, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0, math.inf)
+    t = contact_time(2.0 + 1e-12, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0)
     assert t == pytest.approx(1e-12, rel=1e-3)
 
 

@@ -21,13 +21,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 
+from .body_block import BodyBlock
 from .errors import InvalidInputError
-from .model import Body
-from .shapes import AABB, Circle, Sphere
-from .vector import Vector3D
 
 __all__ = ["GasSpec", "gas_count", "place_gas"]
 
@@ -86,8 +85,9 @@ def gas_count(shape: str, half: tuple[float, float, float], region_size: tuple[f
     return round(fraction * room / body)
 
 
-def place_gas(spec: GasSpec, field: str = "gas") -> list[Body]:
-    """The table's bodies, placed on the lattice's sites in a seeded random order."""
+def place_gas(spec: GasSpec, field: str = "gas") -> BodyBlock:
+    """The table's bodies, placed on the lattice's sites in a seeded random order: one block of
+    arrays (no :class:`~collisionlab.model.Body` is built until one is read)."""
     counts = _sites_per_axis(spec)
     capacity = math.prod(counts)
     if spec.count > capacity:
@@ -117,16 +117,5 @@ def place_gas(spec: GasSpec, field: str = "gas") -> list[Body]:
         velocities[:, :dims] = rng.normal(0.0, math.sqrt(spec.kT / spec.mass), (spec.count, dims))
     else:
         velocities = np.tile(np.array(spec.velocity or (0.0, 0.0, 0.0)), (spec.count, 1))
-    bodies = []
-    for i, (centre, velocity) in enumerate(zip(centres.tolist(), velocities.tolist(), strict=True)):
-        shape: Circle | Sphere | AABB
-        if spec.shape == "circle":
-            shape = Circle(Vector3D(centre[0], centre[1]), spec.half[0])
-        elif spec.shape == "sphere":
-            shape = Sphere(Vector3D(*centre), spec.half[0])
-        else:
-            c = Vector3D(*centre)
-            half = Vector3D(*spec.half)
-            shape = AABB(c - half, c + half)
-        bodies.append(Body(f"{spec.name}{i}", shape, Vector3D(*velocity), spec.mass, spec.restitution))
-    return bodies
+    shape: Literal["circle", "sphere", "aabb"] = spec.shape  # type: ignore[assignment]
+    return BodyBlock(spec.name, shape, spec.half, centres, velocities, spec.mass, spec.restitution, spec)

@@ -30,8 +30,6 @@ step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the d
                             half edge            travelled; beyond ~1e7 sizes per step it misses
 during a run: positions     ``|x| <= 1e12`` m,   beyond: the run stops (exit status 65)
 and speeds                  ``|v| <= 1e12`` m/s
-gas: speeds during a run    ``<= 1e100``         the balls stay in their box; only squares
-                                                 can overflow
 scenario file               ``<= 1,000,000``
                             bytes
 ==========================  ===================  ==============================================
@@ -52,6 +50,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .body_block import BodyBlock
 from .errors import InvalidInputError, OutOfRangeError
 from .validate import non_negative, positive, whole_number
 from .vector import Vector3D
@@ -64,7 +63,6 @@ __all__ = [
     "MAX_BODY_STEPS",
     "MAX_COORDINATE",
     "MAX_DT",
-    "MAX_GAS_SPEED",
     "MAX_MASS",
     "MAX_RESTITUTION",
     "MAX_RUN_COORDINATE",
@@ -117,10 +115,6 @@ MAX_TRAVEL_PER_SIZE = 1e6
 #: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
 MAX_RUN_COORDINATE = 1e12
 MAX_RUN_SPEED = 1e12
-#: Radii per time unit: the many-body gas (``collisionlab gas``) stops when a speed passes this.
-#: Its balls stay in their box, so only the squares (energies) can overflow: 1e100 leaves 200
-#: orders of magnitude, far more than one step of collisions can add at e <= MAX_RESTITUTION.
-MAX_GAS_SPEED = 1e100
 #: Bytes: the largest scenario file read (a file is read up to this and one byte more).
 MAX_SCENARIO_BYTES = 1_000_000
 
@@ -185,13 +179,6 @@ def _points(shape: object) -> list[tuple[str, Vector3D]]:
     return []
 
 
-def _smallest_half_size(shape: object) -> float:
-    sizes = _sizes(shape)
-    from .shapes import AABB
-
-    return min(sizes) * 0.5 if isinstance(shape, AABB) else min(sizes)
-
-
 def check_frames(steps: int, every: int, bodies: int, field: str = "steps") -> None:
     """Refuse a run whose kept frames (one every ``every`` steps, and the first and last) times its
     ``bodies`` exceed ``MAX_BODY_STEPS``: it would not fit in memory.
@@ -221,7 +208,7 @@ def check_scenario(scenario: Scenario) -> None:
     within(s.steps, "simulation.steps", 0, MAX_STEPS)
     within(s.restitution, "simulation.restitution", 0.0, MAX_RESTITUTION)
     check_vector(s.gravity, "simulation.gravity", MAX_ACCELERATION, "m/s^2")
-    for index, body in enumerate(scenario.bodies):
+    for index, body in enumerate(scenario.bodies.singles):
         where = f"body[{index}]"
         for key, point in _points(body.shape):
             check_vector(point, f"{where}.{key}", MAX_COORDINATE, "m")
@@ -232,6 +219,8 @@ def check_scenario(scenario: Scenario) -> None:
             within(body.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
         if body.restitution is not None:
             within(body.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
+    for index, block in enumerate(scenario.bodies.blocks):
+        _check_block(block, f"gas[{index}]")
     for index, obstacle in enumerate(scenario.obstacles):
         where = f"static[{index}]"
         for key, point in _points(obstacle.shape):
@@ -250,27 +239,68 @@ def _closing(speeds: Sequence[float]) -> float:
     return sum(top)
 
 
+def _smallest_halves(scenario: Scenario) -> Any:
+    """Each body's smallest half size: its radius, or half its box's shortest edge."""
+    columns = scenario.bodies.columns()
+    dims = scenario.dims
+    return np.where(columns.kind <= 1, columns.ext[:, 0], columns.ext[:, :dims].min(axis=1))
+
+
 def _reach(scenario: Scenario) -> float:
     """How far bodies may close in one step in exact mode: ``MAX_TRAVEL_PER_SIZE`` times the
     smallest sum of two bodies' sizes (radius, or half the shortest edge), the distance at which
     time of impact must resolve a touch; a lone body against obstacles, its own size."""
-    sizes = sorted(_smallest_half_size(b.shape) for b in scenario.bodies)[:2]
-    return MAX_TRAVEL_PER_SIZE * sum(sizes)
+    sizes = np.sort(_smallest_halves(scenario))[:2]
+    return MAX_TRAVEL_PER_SIZE * float(sizes.sum())
 
 
 def _check_travel(scenario: Scenario) -> None:
     """Exact mode: two bodies may close by at most ``_reach`` in one step, else time of impact
     cannot resolve the touch (measured: it misses beyond ~1e7 sizes per step)."""
-    speeds = [b.velocity.length() for b in scenario.bodies]
-    travel = _closing(speeds) * scenario.settings.dt
+    velocities = scenario.bodies.columns().vel
+    speeds = np.sqrt(np.einsum("ij,ij->i", velocities, velocities))
+    travel = _closing(np.sort(speeds)[-2:].tolist()) * scenario.settings.dt
     if travel > _reach(scenario):
-        fastest = max(range(len(speeds)), key=speeds.__getitem__)
+        fastest = int(np.argmax(speeds))
         raise InvalidInputError(
-            f"body[{fastest}].velocity",
+            _body_field(scenario, fastest, "velocity"),
             f"bodies close by {travel:.3g} m in a step of {scenario.settings.dt:g} s, more than "
             f"{MAX_TRAVEL_PER_SIZE:g} times their sizes, beyond what exact mode resolves; use a smaller dt",
-            scenario.bodies[fastest].velocity.as_tuple(),
+            tuple(velocities[fastest].tolist()),
         )
+
+
+def _body_field(scenario: Scenario, index: int, key: str) -> str:
+    """The field of body ``index`` as a scenario file names it: ``body[i].key`` for a body given
+    alone, ``gas[k].key`` for one of a block."""
+    singles = blocks = 0
+    for part in scenario.bodies.parts:
+        if index < len(part):
+            return f"gas[{blocks}].{key}" if isinstance(part, BodyBlock) else f"body[{singles + index}].{key}"
+        index -= len(part)
+        if isinstance(part, BodyBlock):
+            blocks += 1
+        else:
+            singles += len(part)
+    return f"body.{key}"
+
+
+def _check_block(block: BodyBlock, where: str) -> None:
+    """:func:`check_scenario` for a block's arrays at once."""
+    for key, rows, high, unit in (
+        ("position", block.positions, MAX_COORDINATE, "m"),
+        ("velocity", block.velocities, MAX_SPEED, "m/s"),
+    ):
+        worst = float(np.abs(rows).max(initial=0.0))
+        if worst > high:
+            within(worst, f"{where}.{key}", 0.0, high, unit)
+    box = block.shape == "aabb"
+    for size in [2.0 * h for h in block.half[: block.dims]] if box else [block.half[0]]:
+        within(size, f"{where}.{'size' if box else 'radius'}", MIN_SIZE, MAX_SIZE, "m")
+    if block.mass != math.inf:
+        within(block.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
+    if block.restitution is not None:
+        within(block.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
 
 
 class RangeGuard:
@@ -279,7 +309,7 @@ class RangeGuard:
     when bodies come to move too far per step for time of impact to resolve."""
 
     def __init__(self, scenario: Scenario) -> None:
-        self.names = [b.name for b in scenario.bodies]
+        self.names = scenario.bodies.names()
         self.dt = scenario.settings.dt
         self.exact = scenario.settings.mode == "exact"
         self.reach = _reach(scenario)

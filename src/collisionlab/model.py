@@ -1,4 +1,4 @@
-"""What a simulation is made of: moving bodies, static obstacles and settings.
+"""What a simulation is made of: moving bodies, static obstacles, a box and settings.
 
 A :class:`Scenario` is plain, validated data; :class:`~collisionlab.world.World` steps it.
 """
@@ -6,65 +6,43 @@ A :class:`Scenario` is plain, validated data; :class:`~collisionlab.world.World`
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Literal
 
+import numpy as np
+
+from .body import Body, BodyShape, planar
+from .body_block import Bodies, BodyBlock
 from .errors import InvalidInputError, UnsupportedPairError
 from .limits import check_scenario
 from .narrowphase import separation
 from .shapes import AABB, Circle, Line, Plane, Sphere
-from .validate import non_negative, positive, positive_or_inf, printable, whole_number
-from .vector import Vector3D, as_vector, as_vector_3d
+from .validate import non_negative, positive, printable, whole_number
+from .vector import Vector3D, as_vector
 
-__all__ = ["Body", "BodyShape", "Mode", "Obstacle", "ObstacleShape", "Scenario", "Settings"]
+__all__ = [
+    "BOUNDARIES",
+    "Bodies",
+    "Body",
+    "BodyBlock",
+    "BodyShape",
+    "Box",
+    "Mode",
+    "Obstacle",
+    "ObstacleShape",
+    "Scenario",
+    "Settings",
+]
 
-BodyShape = Circle | Sphere | AABB
 ObstacleShape = Line | Plane | AABB
 Mode = Literal["euler", "exact"]
 MODES: tuple[Mode, ...] = ("euler", "exact")
-
-
-def _planar(shape: object) -> bool:
-    """A circle or a 2D box: it lives in the x-y plane and must not move out of it."""
-    return isinstance(shape, Circle) or (isinstance(shape, AABB) and shape.dim == 2)
-
-
-@dataclass(frozen=True)
-class Body:
-    """A moving body: a shape placed at its starting position, a velocity and a mass.
-    ``math.inf`` is a kinematic body: it moves at its own velocity, pushes others and is never
-    pushed (gravity does not act on it).
-
-    ``restitution`` overrides the scenario's default for collisions of this body. ``velocity``
-    has as many numbers as the shape's vectors: three for a sphere or a 3D box (``(0, -1)`` is
-    refused, never padded), ``(x, y)`` or ``(x, y, 0)`` for a circle or a 2D box; a ``Vector3D``
-    is taken as it is.
-    """
-
-    name: str
-    shape: BodyShape
-    velocity: Vector3D
-    mass: float = 1.0
-    restitution: float | None = None
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.shape, (Circle, Sphere, AABB)):
-            raise InvalidInputError("shape", "a moving body must be a circle, a sphere or an AABB")
-        if _planar(self.shape):  # (x, y) or (x, y, 0), as the shape's own vectors
-            velocity = as_vector(self.velocity, "velocity")
-        else:  # a sphere or a 3D box: (x, y, z), never padded
-            owner = "a sphere" if isinstance(self.shape, Sphere) else "a 3D box"
-            velocity = as_vector_3d(self.velocity, "velocity", owner)
-        object.__setattr__(self, "velocity", velocity)
-        object.__setattr__(self, "mass", positive_or_inf(self.mass, "mass"))
-        if self.restitution is not None:
-            object.__setattr__(self, "restitution", non_negative(self.restitution, "restitution"))
-        if _planar(self.shape) and self.velocity.z != 0.0:  # else it would leave its plane
-            raise InvalidInputError("velocity", "a circle or a 2D box moves in the x-y plane: z must be 0")
-
-    @property
-    def position(self) -> Vector3D:
-        return self.shape.center
+Boundary = Literal["walls", "periodic"]
+#: A vector as a box's corners take it: a :class:`Vector3D`, or 2 or 3 numbers.
+VectorLike = Vector3D | Sequence[float]
+#: A box's boundary: hard walls, or periodic.
+BOUNDARIES: tuple[Boundary, ...] = ("walls", "periodic")
 
 
 @dataclass(frozen=True)
@@ -86,13 +64,17 @@ class Obstacle:
 class Settings:
     """Time step ``dt`` (s), number of ``steps``, default ``restitution`` e, constant ``gravity``
     (m/s^2) and the stepping ``mode``: ``"euler"`` (the lab's: Forward Euler, then detect) or
-    ``"exact"`` (time of impact: nothing tunnels)."""
+    ``"exact"`` (time of impact: nothing tunnels). ``tc`` (s) is the TC model's time of the
+    event-driven stepper (balls in a box, see :attr:`Scenario.event_driven`): a collision of a
+    body that collided less than ``tc`` ago is elastic; ``None`` gives ``DEFAULT_TC_STEPS * dt``
+    when some collision is inelastic or under gravity (inelastic collapse), else 0."""
 
     dt: float = 0.01
     steps: int = 100
     restitution: float = 1.0
     gravity: Vector3D = field(default_factory=lambda: Vector3D(0.0, 0.0, 0.0))
     mode: Mode = "euler"
+    tc: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "dt", positive(self.dt, "dt"))
@@ -101,47 +83,108 @@ class Settings:
         object.__setattr__(self, "gravity", as_vector(self.gravity, "gravity"))
         if self.mode not in MODES:
             raise InvalidInputError("mode", "must be 'euler' or 'exact'", got=self.mode)
+        if self.tc is not None:
+            object.__setattr__(self, "tc", non_negative(self.tc, "tc"))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
+class Box:
+    """The scenario's box, from corner ``low`` to corner ``high`` (2D when both have z = 0).
+    ``"walls"``: a hard, one-sided wall on every face, the inside being the box (named
+    ``wall x-``, ``wall x+``, ``wall y-``, ...); ``"periodic"``: a body leaving by one face comes
+    back by the opposite one (the event-driven stepper only: balls, ``mode = "exact"``).
+
+    >>> Box((0, 0), (10, 5)).walls()[:2]
+    [('wall x-', (0.0, 0.0, 0.0), (1.0, 0.0, 0.0)), ('wall x+', (10.0, 5.0, 0.0), (-1.0, 0.0, 0.0))]
+    >>> try:
+    ...     Box((0, 0), (10, 0))              # no height
+    ... except InvalidInputError as error:
+    ...     print(error.field)
+    box.region
+    """
+
+    low: Vector3D
+    high: Vector3D
+    boundary: Boundary = "walls"
+
+    def __init__(self, low: VectorLike, high: VectorLike, boundary: Boundary = "walls") -> None:
+        low = as_vector(low, "box.region")
+        high = as_vector(high, "box.region")
+        object.__setattr__(self, "low", low)
+        object.__setattr__(self, "high", high)
+        object.__setattr__(self, "boundary", boundary)
+        if any(h <= lo for lo, h in list(zip(low, high, strict=True))[: self.dims]):
+            raise InvalidInputError("box.region", "the second corner must be above the first on every axis", high)
+        if self.boundary not in BOUNDARIES:
+            raise InvalidInputError("box.boundary", f"must be one of {', '.join(BOUNDARIES)}", got=self.boundary)
+
+    @property
+    def dims(self) -> int:
+        return 2 if self.low.z == 0.0 and self.high.z == 0.0 else 3
+
+    @property
+    def sides(self) -> tuple[float, ...]:
+        return tuple(h - lo for lo, h in list(zip(self.low, self.high, strict=True))[: self.dims])
+
+    def walls(self) -> list[tuple[str, tuple[float, float, float], tuple[float, float, float]]]:
+        """Each face as ``(name, point, inward unit normal)``: ``x-``, ``x+``, ``y-``, ... in turn."""
+        faces = []
+        for k, axis in enumerate("xyz"[: self.dims]):
+            unit = tuple(1.0 if j == k else 0.0 for j in range(3))
+            faces.append((f"wall {axis}-", self.low.as_tuple(), unit))
+            faces.append((f"wall {axis}+", self.high.as_tuple(), tuple(-c + 0.0 for c in unit)))
+        return faces  # type: ignore[return-value]
+
+
+@dataclass(frozen=True, init=False)
 class Scenario:
-    """A whole simulation: settings, moving bodies and static obstacles, with a title.
+    """A whole simulation: settings, moving bodies and static obstacles, with a title, and
+    optionally a box (walls or periodic) around it all.
 
-    Validated as a whole: names are unique, every pair that can meet has a collision query,
-    and circles (which live in the x-y plane) get no gravity along z.
+    ``bodies`` are :class:`Body` objects and :class:`~collisionlab.body_block.BodyBlock` s (many
+    bodies as arrays, a ``[[gas]]`` table), kept as one
+    :class:`~collisionlab.body_block.Bodies` sequence. Validated as a whole: names are unique,
+    every pair that can meet has a collision query, circles (which live in the x-y plane) get no
+    gravity along z, and every body starts inside the box.
     """
 
     settings: Settings
-    bodies: tuple[Body, ...]
+    bodies: Bodies
     obstacles: tuple[Obstacle, ...] = ()
     title: str = "scenario"
     #: Whether bodies may start overlapping (the first step then pushes them apart, with a
     #: warning); otherwise such a scenario is refused when its world is built.
     allow_initial_overlap: bool = False
+    box: Box | None = None
 
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "bodies", tuple(self.bodies))
-        object.__setattr__(self, "obstacles", tuple(self.obstacles))
-        if not self.bodies:
+    def __init__(
+        self,
+        settings: Settings,
+        bodies: Iterable[Body | BodyBlock],
+        obstacles: Iterable[Obstacle] = (),
+        title: str = "scenario",
+        allow_initial_overlap: bool = False,
+        box: Box | None = None,
+    ) -> None:
+        object.__setattr__(self, "settings", settings)
+        object.__setattr__(self, "bodies", bodies if isinstance(bodies, Bodies) else Bodies(bodies))
+        object.__setattr__(self, "obstacles", tuple(obstacles))
+        object.__setattr__(self, "title", title)
+        object.__setattr__(self, "allow_initial_overlap", allow_initial_overlap)
+        object.__setattr__(self, "box", box)
+        self._validate()
+
+    def _validate(self) -> None:
+        bodies = self.bodies
+        if not len(bodies):
             raise InvalidInputError("body", "a scenario needs at least one moving body")
-        names = [b.name for b in self.bodies] + [o.name for o in self.obstacles]
-        fields = [f"body[{i}].name" for i in range(len(self.bodies))]
-        fields += [f"static[{i}].name" for i in range(len(self.obstacles))]
         printable(self.title, "simulation.title")
-        seen: set[str] = set()
-        for index, name in enumerate(names):
-            printable(name, fields[index])
-            if not name:
-                raise InvalidInputError("name", "must not be empty")
-            if name in seen:
-                raise InvalidInputError("name", "must be unique among bodies and obstacles", got=name)
-            seen.add(name)
-        flat = [i for i, b in enumerate(self.bodies) if isinstance(b.shape, AABB) and b.shape.dim == 2]
-        if flat and any(
-            isinstance(b.shape, Sphere) or (isinstance(b.shape, AABB) and b.shape.dim == 3) for b in self.bodies
-        ):
+        self._check_names()
+        reps = bodies.representatives()
+        flat = [b for b in reps if isinstance(b.shape, AABB) and b.shape.dim == 2]
+        if flat and any(isinstance(b.shape, Sphere) or (isinstance(b.shape, AABB) and b.shape.dim == 3) for b in reps):
             raise InvalidInputError(  # a sphere or a 3D box would push it along z, out of its plane
-                f"body[{flat[0]}].shape", "a moving 2D box lives in the x-y plane: it cannot meet a sphere or a 3D box"
+                flat[0].name, "a moving 2D box lives in the x-y plane: it cannot meet a sphere or a 3D box"
             )
         if flat:
             for index, obstacle in enumerate(self.obstacles):  # it would push a 2D box along z
@@ -150,34 +193,84 @@ class Scenario:
                         f"static[{index}].normal",
                         "a plane meeting a 2D box must have its normal in the x-y plane (z = 0)",
                     )
-        if self.settings.gravity.z != 0.0 and any(_planar(b.shape) for b in self.bodies):
+        if self.settings.gravity.z != 0.0 and any(planar(b.shape) for b in reps):
             raise InvalidInputError(
                 "gravity", "a scenario with circles or 2D boxes lives in the x-y plane: z must be 0"
             )
-        for a, b in self._representative_pairs():
+        for a, b in self._representative_pairs(reps):
             try:
                 separation(a.shape, b.shape)
             except UnsupportedPairError as error:
                 raise InvalidInputError(f"{b.name}", f"'{a.name}' and '{b.name}' cannot collide: {error}") from error
         check_scenario(self)  # every magnitude within the range that can be simulated
+        if self.box is not None:
+            self._check_box(self.box)
 
-    def _representative_pairs(self) -> list[tuple[Body | Obstacle, Body]]:
+    def _check_names(self) -> None:
+        """Names are printable, not empty, and unique among bodies, obstacles and walls (a
+        block's bodies are its name and a number: checked without listing them)."""
+        singles = self.bodies.singles
+        names = [b.name for b in singles] + [o.name for o in self.obstacles]
+        fields = [f"body[{i}].name" for i in range(len(singles))]
+        fields += [f"static[{i}].name" for i in range(len(self.obstacles))]
+        if self.box is not None:
+            names += [name for name, _, _ in self.box.walls()]
+            fields += ["box"] * (2 * self.box.dims)
+        seen: set[str] = set()
+        for index, name in enumerate(names):
+            printable(name, fields[index])
+            if not name:
+                raise InvalidInputError(fields[index], "must not be empty")
+            if name in seen:
+                raise InvalidInputError(fields[index], "must be unique among bodies, obstacles and walls", got=name)
+            seen.add(name)
+        blocks = self.bodies.blocks
+        for i, block in enumerate(blocks):
+            clash = next((name for name in names if block.names_clash(name)), None)
+            for other in blocks[i + 1 :]:
+                if clash is None and (_blocks_clash(block, other) or _blocks_clash(other, block)):
+                    clash = f"{other.name}..."
+            if clash is not None:
+                raise InvalidInputError(
+                    f"gas[{i}].name",
+                    f"must be unique among bodies, obstacles and walls: the bodies of '{block.name}' are "
+                    f"'{block.name}0' to '{block.name}{len(block) - 1}'",
+                    got=clash,
+                )
+
+    def _check_box(self, box: Box) -> None:
+        if box.dims != self.dims:
+            raise InvalidInputError("box.region", f"must have {self.dims} numbers per corner, as the bodies")
+        columns = self.bodies.columns()
+        axes = slice(0, box.dims)
+        low, high = np.array(box.low.as_tuple())[axes], np.array(box.high.as_tuple())[axes]
+        if box.boundary == "walls":
+            outside = np.any(columns.pos[:, axes] - columns.ext[:, axes] < low, axis=1) | np.any(
+                columns.pos[:, axes] + columns.ext[:, axes] > high, axis=1
+            )
+            where = "inside its walls"
+        else:
+            outside = np.any(columns.pos[:, axes] < low, axis=1) | np.any(columns.pos[:, axes] >= high, axis=1)
+            where = "inside the periodic box (low <= centre < high)"
+        if np.any(outside):
+            name = self.bodies[int(np.argmax(outside))].name
+            raise InvalidInputError("box.region", f"every body must start {where}; '{name}' does not")
+        if box.boundary == "periodic" and not self.event_driven:
+            raise InvalidInputError(
+                "box.boundary",
+                'a periodic box needs mode = "exact" with balls of one radius and mass and no obstacles '
+                "(the event-driven stepper)",
+            )
+
+    def _representative_pairs(self, reps: list[Body]) -> list[tuple[Body | Obstacle, Body]]:
         """One pair for each pair of kinds of shape that can meet (a kind: the shape's type and
-        dimension), in the order of :meth:`pairs`: whether a pair has a query depends on the
-        kinds only, so a 100,000-body scenario is checked with a handful of queries."""
+        dimension), bodies in order then obstacle-body pairs: whether a pair has a query depends
+        on the kinds only, so a 100,000-body scenario is checked with a handful of queries."""
 
         def kind(thing: Body | Obstacle) -> tuple[str, int]:
             shape = thing.shape
             return (type(shape).__name__, shape.dim if isinstance(shape, AABB) else 0)
 
-        firsts: dict[tuple[str, int], list[Body]] = {}
-        for body in self.bodies:
-            group = firsts.setdefault(kind(body), [])
-            if len(group) < 2:  # two of a kind make the same-kind pair
-                group.append(body)
-        reps = [b for group in firsts.values() for b in group]
-        order = {id(b): i for i, b in enumerate(self.bodies)}
-        reps.sort(key=lambda b: order[id(b)])
         pairs: list[tuple[Body | Obstacle, Body]] = []
         for i, a in enumerate(reps):
             for b in reps[i + 1 :]:
@@ -192,21 +285,33 @@ class Scenario:
     @property
     def dims(self) -> int:
         """2 when everything lives in the x-y plane (circles, lines, 2D boxes), else 3."""
-        shapes = [b.shape for b in self.bodies] + [o.shape for o in self.obstacles]
+        shapes = [b.shape for b in self.bodies.representatives()] + [o.shape for o in self.obstacles]
         flat = all(isinstance(s, (Circle, Line)) or (isinstance(s, AABB) and s.dim == 2) for s in shapes)
         return 2 if flat else 3
 
-    def pairs(self) -> list[tuple[Body | Obstacle, Body]]:
-        """Every pair that may collide, in the world's fixed order: body-body pairs ``(i, j)``
-        with ``i < j``, then obstacle-body pairs (obstacle first, so normals point at the body)."""
-        pairs: list[tuple[Body | Obstacle, Body]] = []
-        for i, a in enumerate(self.bodies):
-            for b in self.bodies[i + 1 :]:
-                pairs.append((a, b))
-        for obstacle in self.obstacles:
-            for body in self.bodies:
-                pairs.append((obstacle, body))
-        return pairs
+    @property
+    def event_driven(self) -> bool:
+        """Whether ``mode = "exact"`` runs on the event-driven stepper (:mod:`collisionlab.edmd`:
+        neighbour lists, an event calendar, no time step inside a frame's span): when the scenario
+        is hard balls in a box, that is a :class:`Box`, no other obstacles, balls of one kind,
+        radius and mass (finite) with no restitution of their own, and gravity none or along -y.
+        Any other exact scenario runs on the general exact stepper."""
+        if self.settings.mode != "exact" or self.box is None or self.obstacles:
+            return False
+        columns = self.bodies.columns()
+        g = self.settings.gravity
+        return bool(
+            np.all(columns.kind == columns.kind[0])
+            and columns.kind[0] <= 1  # circles or spheres
+            and np.all(columns.ext == columns.ext[0])
+            and np.all(columns.mass == columns.mass[0])
+            and math.isfinite(float(columns.mass[0]))
+            and np.all(np.isnan(columns.eb))
+            and g.x == 0.0
+            and g.z == 0.0
+            and g.y <= 0.0
+            and (g.y == 0.0 or self.box.boundary == "walls")
+        )
 
     def with_settings(self, **changes: object) -> Scenario:
         """A copy with some settings replaced (``dt``, ``steps``, ``mode``...), re-validated."""
@@ -215,14 +320,28 @@ class Scenario:
     def energy_warning(self) -> str | None:
         """A warning when some restitution exceeds 1 (each collision then adds kinetic energy)."""
         values = [self.settings.restitution]
-        things: tuple[Body | Obstacle, ...] = (*self.bodies, *self.obstacles)
-        values += [x.restitution for x in things if x.restitution is not None]
+        values += [b.restitution for b in self.bodies.singles if b.restitution is not None]
+        values += [o.restitution for o in self.obstacles if o.restitution is not None]
+        values += [block.restitution for block in self.bodies.blocks if block.restitution is not None]
         worst = max(values)
         if worst > 1.0:
             return f"restitution {worst:g} > 1: every collision adds kinetic energy (the postlab's question 4)"
         return None
 
 
-def mass_of(thing: Body | Obstacle) -> float:
-    """Mass of a body; ``math.inf`` for a static obstacle."""
-    return thing.mass if isinstance(thing, Body) else positive_or_inf(math.inf, "mass")
+def _blocks_clash(first: BodyBlock, second: BodyBlock) -> bool:
+    """Whether a body of ``second`` has the name of a body of ``first``: its name is
+    ``first.name`` then digits ``rest``, and ``rest`` followed by ``second``'s smallest numbers
+    gives a number of ``first``'s.
+
+    >>> a = BodyBlock("g", "circle", (1, 1, 1), [[0, 0]] * 20, [[0, 0]] * 20)
+    >>> b = BodyBlock("g1", "circle", (1, 1, 1), [[0, 0]] * 3, [[0, 0]] * 3)
+    >>> _blocks_clash(a, b), _blocks_clash(b, a)       # g1 + 0 = g10, a body of g
+    (True, False)
+    """
+    if first.name == second.name:
+        return True
+    rest = second.name[len(first.name) :]
+    if not second.name.startswith(first.name) or not (rest.isascii() and rest.isdigit()) or rest.startswith("0"):
+        return False
+    return int(rest + "0") < len(first)

@@ -7,11 +7,13 @@ run before the first ``import numba``; a folder the user set is kept.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import sys
+from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["numba_cache_dir", "use_user_cache"]
+__all__ = ["cache_files", "forget_stale", "numba_cache_dir", "use_user_cache"]
 
 
 def numba_cache_dir() -> Path:
@@ -30,3 +32,26 @@ def numba_cache_dir() -> Path:
 def use_user_cache() -> None:
     """Point numba's cache at :func:`numba_cache_dir`, unless ``NUMBA_CACHE_DIR`` is already set."""
     os.environ.setdefault("NUMBA_CACHE_DIR", str(numba_cache_dir()))
+
+
+def cache_files(package: Path) -> list[Path]:
+    """numba's cache files of the functions defined in the folder ``package`` (numba keeps them
+    in ``NUMBA_CACHE_DIR``, in a folder named after the source folder and a hash of its path, or
+    in ``__pycache__`` beside the sources when no cache folder is set)."""
+    package = package.resolve()
+    folders = [package / "__pycache__"]
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        digest = hashlib.sha1(str(package).encode()).hexdigest()
+        folders.append(Path(os.environ["NUMBA_CACHE_DIR"]) / f"{package.name}_{digest}")
+    return [f for folder in folders if folder.exists() for f in folder.glob("*.nb[ic]")]
+
+
+def forget_stale(package: Path, stems: Iterable[str], sources: Iterable[Path]) -> None:
+    """Delete the cached code of ``package``'s files ``stems`` when one of ``sources`` is newer:
+    numba keys a cached function on its own file only, so code it inlined from another file (or
+    a constant it baked in) would otherwise run stale after that file changed."""
+    wanted = tuple(f"{stem}." for stem in stems)
+    cached = [f for f in cache_files(package) if f.name.startswith(wanted)]
+    if cached and min(f.stat().st_mtime for f in cached) < max(s.stat().st_mtime for s in sources):
+        for f in cached:
+            f.unlink(missing_ok=True)

@@ -18,7 +18,7 @@ from typing import Any, TypeVar
 from .errors import CollisionLabError, InvalidInputError, escape_controls
 from .gas_table import GasSpec, gas_count, place_gas
 from .limits import MAX_SCENARIO_BYTES
-from .model import Body, Obstacle, Scenario, Settings
+from .model import Body, BodyBlock, Box, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive, positive_or_inf, whole_number
 from .vector import Vector3D, as_vector
@@ -27,7 +27,8 @@ __all__ = ["SCENARIO_FIELDS", "ScenarioError", "load_scenario", "parse_scenario"
 
 T = TypeVar("T")
 
-_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title", "allow_initial_overlap"}
+_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title", "allow_initial_overlap", "tc"}
+_BOX_KEYS = {"region", "boundary"}
 _BODY_KEYS = {"name", "shape", "position", "radius", "size", "velocity", "mass", "restitution"}
 _STATIC_KEYS = {"name", "shape", "point", "normal", "points", "direction", "position", "size", "restitution"}
 _GAS_KEYS = {
@@ -52,6 +53,7 @@ SCENARIO_FIELDS: Mapping[str, frozenset[str]] = {
     "body": frozenset(_BODY_KEYS),
     "static": frozenset(_STATIC_KEYS),
     "gas": frozenset(_GAS_KEYS),
+    "box": frozenset(_BOX_KEYS),
 }
 
 
@@ -198,7 +200,7 @@ def _static(source: str, data: object, index: int) -> Obstacle:
     return Obstacle(name, shape, restitution)
 
 
-def _gas(source: str, data: object, index: int) -> list[Body]:
+def _gas(source: str, data: object, index: int) -> BodyBlock:
     """A ``[[gas]]`` table: many bodies placed without overlap (:mod:`collisionlab.gas_table`)."""
     field = f"gas[{index}]"
     table = _table(source, data, field, _GAS_KEYS)
@@ -251,9 +253,21 @@ def _gas(source: str, data: object, index: int) -> list[Body]:
     return _check(source, lambda: place_gas(spec, field), field, {"gas": "gas"})
 
 
+def _box_table(source: str, data: object) -> Box:
+    """The ``[box]`` table: ``region`` (two opposite corners) and ``boundary``."""
+    table = _table(source, data, "box", _BOX_KEYS)
+    corners = _get(source, table, "box", "region")
+    where = "box.region"
+    if not isinstance(corners, list) or len(corners) != 2:
+        raise ScenarioError(source, where, "must be two opposite corners [[x0, y0, z0], [x1, y1, z1]]")
+    low, high = (_check(source, functools.partial(as_vector, c, where), where) for c in corners)
+    boundary = table.get("boundary", "walls")
+    return _check(source, lambda: Box(low, high, boundary), "box", {"box": "box"})
+
+
 def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: str | None = None) -> Scenario:
     """A :class:`Scenario` from parsed TOML data (a dict as ``tomllib`` gives)."""
-    _table(source, data, "scenario", {"simulation", "body", "static", "gas"})
+    _table(source, data, "scenario", {"simulation", "body", "static", "gas", "box"})
     sim = _table(source, data.get("simulation", {}), "simulation", _SIMULATION_KEYS)
     given = {key: value for key, value in sim.items() if key not in ("title", "allow_initial_overlap")}
     allow_overlap = sim.get("allow_initial_overlap", False)
@@ -268,15 +282,10 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
         if not isinstance(value, list):
             raise ScenarioError(source, key, f"must be an array of tables, written [[{key}]]")
     bodies = [_body(source, b, i) for i, b in enumerate(bodies_data)]
-    gas_fields: list[str] = []
-    for index, table in enumerate(gases_data):
-        placed = _gas(source, table, index)
-        bodies += placed
-        gas_fields += [f"gas[{index}]"] * len(placed)
+    blocks = [_gas(source, table, index) for index, table in enumerate(gases_data)]
     statics = [_static(source, s, i) for i, s in enumerate(statics_data)]
-    fields = (
-        [f"body[{i}]" for i in range(len(bodies_data))] + gas_fields + [f"static[{i}]" for i in range(len(statics))]
-    )
+    box = _box_table(source, data["box"]) if "box" in data else None
+    fields = [f"body[{i}]" for i in range(len(bodies))] + [f"static[{i}]" for i in range(len(statics))]
     seen: set[str] = set()
     things: list[Body | Obstacle] = [*bodies, *statics]
     for thing, where in zip(things, fields, strict=True):
@@ -286,11 +295,18 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
     name = sim.get("title", title or Path(source).stem)
     if not isinstance(name, str):
         raise ScenarioError(source, "simulation.title", "must be a string", got=name)
-    # The scenario's own checks name a body (a pair that cannot collide), ``gravity`` or ``body``.
-    names = {b.name: f"{where}.shape" for b, where in zip(bodies, fields, strict=False)}
-    names.update({"gravity": "simulation.gravity", "body": "body", "static": "static", "simulation": "simulation"})
+    # The scenario's own checks name a body (a pair that cannot collide), ``gravity``, a field
+    # of the file (``gas[0].name``, ``box.region``) or ``body``.
+    names = {b.name: f"body[{i}].shape" for i, b in enumerate(bodies)}
+    for index, block in enumerate(blocks):
+        names.update({body.name: f"gas[{index}].shape" for body in block[:2]})
+    names.update({key: key for key in ("gravity", "body", "static", "simulation", "box", "gas")})
+    names["gravity"] = "simulation.gravity"
     return _check(
-        source, lambda: Scenario(settings, tuple(bodies), tuple(statics), name, allow_overlap), "scenario", names
+        source,
+        lambda: Scenario(settings, (*bodies, *blocks), tuple(statics), name, allow_overlap, box),
+        "scenario",
+        names,
     )
 
 
@@ -373,20 +389,16 @@ def scenario_to_toml(scenario: Scenario) -> str:
     ]
     if scenario.allow_initial_overlap:
         lines.append("allow_initial_overlap = true")
-    for body in scenario.bodies:
-        shape = body.shape
-        lines += ["", "[[body]]", f"name = {_str(body.name)}"]
-        if isinstance(shape, AABB):
-            dim = shape.dim
-            centre, size = _centre_and_size(shape)
-            lines += ['shape = "aabb"', f"position = {_vec(centre, dim)}", f"size = {_vec(size, dim)}"]
+    if s.tc is not None:
+        lines.append(f"tc = {_fmt(s.tc)}")
+    tables: list[str] = []
+    for part in scenario.bodies.parts:
+        if isinstance(part, BodyBlock) and part.spec is not None:
+            tables += _gas_lines(part.spec)  # the table that placed it places it again, the same
         else:
-            kind = "circle" if isinstance(shape, Circle) else "sphere"
-            dim = 2 if kind == "circle" else 3
-            lines += [f'shape = "{kind}"', f"position = {_vec(shape.center, dim)}", f"radius = {_fmt(shape.radius)}"]
-        lines += [f"velocity = {_vec(body.velocity, dim)}", f"mass = {_fmt(body.mass)}"]
-        if body.restitution is not None:
-            lines.append(f"restitution = {_fmt(body.restitution)}")
+            for body in part:
+                lines += _body_lines(body)
+    lines += tables
     for obstacle in scenario.obstacles:
         shape_o = obstacle.shape
         lines += ["", "[[static]]", f"name = {_str(obstacle.name)}"]
@@ -401,4 +413,44 @@ def scenario_to_toml(scenario: Scenario) -> str:
             lines += ['shape = "plane"', f"point = {_vec(shape_o.point)}", f"normal = {_vec(shape_o.normal)}"]
         if obstacle.restitution is not None:
             lines.append(f"restitution = {_fmt(obstacle.restitution)}")
+    if scenario.box is not None:
+        box = scenario.box
+        lines += ["", "[box]", f"region = [{_vec(box.low, box.dims)}, {_vec(box.high, box.dims)}]"]
+        lines.append(f"boundary = {_str(box.boundary)}")
     return "\n".join(lines) + "\n"
+
+
+def _body_lines(body: Body) -> list[str]:
+    shape = body.shape
+    lines = ["", "[[body]]", f"name = {_str(body.name)}"]
+    if isinstance(shape, AABB):
+        dim = shape.dim
+        centre, size = _centre_and_size(shape)
+        lines += ['shape = "aabb"', f"position = {_vec(centre, dim)}", f"size = {_vec(size, dim)}"]
+    else:
+        kind = "circle" if isinstance(shape, Circle) else "sphere"
+        dim = 2 if kind == "circle" else 3
+        lines += [f'shape = "{kind}"', f"position = {_vec(shape.center, dim)}", f"radius = {_fmt(shape.radius)}"]
+    lines += [f"velocity = {_vec(body.velocity, dim)}", f"mass = {_fmt(body.mass)}"]
+    if body.restitution is not None:
+        lines.append(f"restitution = {_fmt(body.restitution)}")
+    return lines
+
+
+def _gas_lines(spec: GasSpec) -> list[str]:
+    dims = spec.dims
+    low, high = (Vector3D(*corner) for corner in spec.region)
+    lines = ["", "[[gas]]", f"name = {_str(spec.name)}", f"shape = {_str(spec.shape)}"]
+    if spec.shape == "aabb":
+        lines.append(f"size = {_vec(Vector3D(*(2.0 * h for h in spec.half)), dims)}")
+    else:
+        lines.append(f"radius = {_fmt(spec.half[0])}")
+    lines += [f"region = [{_vec(low, dims)}, {_vec(high, dims)}]", f"count = {spec.count}", f"mass = {_fmt(spec.mass)}"]
+    if spec.kT is not None:
+        lines.append(f"kT = {_fmt(spec.kT)}")
+    else:
+        lines.append(f"velocity = {_vec(Vector3D(*(spec.velocity or (0.0, 0.0, 0.0))), dims)}")
+    if spec.restitution is not None:
+        lines.append(f"restitution = {_fmt(spec.restitution)}")
+    lines.append(f"seed = {spec.seed}")
+    return lines

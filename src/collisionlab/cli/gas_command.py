@@ -1,29 +1,27 @@
-"""``collisionlab gas``: the many-body particle world on the benchmark's gas, with its speed.
+"""``collisionlab gas``: a gas of many balls as a scenario, run on the engine's world, with its speed.
 
-Thin: it parses, builds :func:`collisionlab.particles.gas_scenario`, times
-:meth:`~collisionlab.particles.ParticleWorld.step`, and prints (a table or one JSON object) and
-plots. With ``--mode exact`` it hands the settings to :func:`collisionlab.edmd.observables.run_exact_gas`
-(event-driven, exact) instead. No physics here.
+Thin: it parses, builds the scenario (:meth:`collisionlab.particles.GasScenario.scenario`, the
+benchmark's gas, for the time-stepped world; :meth:`collisionlab.edmd.observables.ExactGas.scenario`
+with ``--mode exact``, run event by event), times :meth:`World.advance
+<collisionlab.engine.world.World.advance>`, and prints (a table or one JSON object) and plots.
+No physics here.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import threading
-import time
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
-
 from .. import limits
+from ..engine import WorldParams
+from ..engine.world import World
 from ..errors import InvalidInputError, OutOfRangeError
-from ..particles import BACKENDS, ParticleWorld, gas_scenario, warm_up
+from ..particles import BACKENDS, gas_scenario, pick_backend
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
-from ..particles.world import StepReport
 from .interrupts import Pending, deferred_interrupts
-from .progress import SHOW_AFTER, ProgressBar
+from .progress import ProgressBar
 from .streams import Streams
 
 __all__ = ["add_parser", "run"]
@@ -51,11 +49,6 @@ _MODES = ("stepped", "exact")
 #: ``--boundary``: ``collisionlab.edmd.observables.BOUNDARIES``, spelled out so that the command
 #: line starts without importing numba (tests/test_edmd_cli.py checks the two agree).
 BOUNDARIES = ("walls", "periodic")
-#: Seconds of warm-up before the note that the kernels are being compiled (as the progress bar).
-_QUIET_SECONDS = SHOW_AFTER
-#: Seconds of stepping between two looks at Ctrl-C (a compiled kernel cannot be interrupted):
-#: a fraction of a second, so an interrupt stops the run within a second.
-CHUNK_SECONDS = 0.1
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -99,57 +92,16 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     parser.set_defaults(func=run)
 
 
-def _warm_up(streams: Streams, notes: bool) -> None:
-    """Compile or load the kernels before timing; say so if it takes a while (first run only)."""
-    note = threading.Timer(
-        _QUIET_SECONDS, lambda: streams.err("compiling the particle kernels (first run only; cached after)...")
-    )
-    if notes:
-        note.start()
-    try:
-        warm_up()
-    finally:
-        note.cancel()
+def _between(pending: Pending, progress: ProgressBar | None) -> Callable[[int, int], None]:
+    """What happens between two chunks of steps: Ctrl-C is looked for (a compiled chunk cannot be
+    interrupted, and lasts a fraction of a second) and the bar moves."""
 
-
-def step_in_chunks(
-    world: ParticleWorld,
-    dt: float,
-    steps: int,
-    pending: Pending,
-    progress: ProgressBar | None = None,
-    clock: Callable[[], float] = time.perf_counter,
-) -> StepReport:
-    """``world.step(dt, steps)`` in chunks of about ``CHUNK_SECONDS`` (the first chunk is one
-    step, then each is sized from the time the last took, at most doubling), checking between
-    chunks for an interrupt (``pending``) and that speeds stay in the range that can be
-    simulated. With e > 1 each collision adds energy, so the chunks are single steps."""
-    done = body = wall = 0
-    chunk = 1
-    while done < steps:
-        count = min(chunk, steps - done)
-        began = clock()
-        report = world.step(dt, count)
-        took = clock() - began
-        done += count
-        body += report.body_collisions
-        wall += report.wall_collisions
+    def between(done: int, total: int) -> None:
         pending.check()
-        _check_speeds(world, done)
         if progress is not None:
-            progress(done, steps)
-        if world.restitution <= 1.0:
-            chunk = max(1, min(2 * count, int(count * CHUNK_SECONDS / took) if took > 0 else 2 * count))
-    return StepReport(steps, body, wall)
+            progress(done, total)
 
-
-def _check_speeds(world: ParticleWorld, done: int) -> None:
-    speeds = np.abs(world.velocities)
-    if not (np.all(np.isfinite(speeds)) and speeds.max(initial=0.0) <= limits.MAX_GAS_SPEED):
-        raise OutOfRangeError(
-            f"the gas at step {done}: speeds grew beyond {limits.MAX_GAS_SPEED:g} (restitution "
-            f"{world.restitution:g} > 1 adds energy at every collision): too large to simulate"
-        )
+    return between
 
 
 def _table(report: dict[str, Any]) -> list[str]:
@@ -211,6 +163,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.events_file import event_file, event_format
     from ..edmd.observables import ExactGas, run_exact_gas
 
+    notes = not args.quiet
     try:
         if args.plot is not None:
             raise InvalidInputError("plot", "is not available with --mode exact")
@@ -227,7 +180,8 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         ).checked()
         if args.events is not None:
             event_format(args.events)
-        world = gas.world()  # checks the start (and compiles the loop) before any file is opened
+        # Checks the start (and compiles the loop, saying so) before any file is opened.
+        world = World(gas.scenario(), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
@@ -235,16 +189,23 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         return 1
     if gas.restitution > 1.0:
         streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+    bar = ProgressBar(streams, label="gas time")
+    interactive = bool(streams.interactive) and notes
     try:
-        if args.events is not None:
-            with event_file(args.events) as sink:
-                report = run_exact_gas(gas, sink, world)
-            report["events_file"] = args.events
-        else:
-            report = run_exact_gas(gas, world=world)
+        with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the loop
+            between = _between(pending, bar if interactive else None)
+            if args.events is not None:
+                with event_file(args.events) as sink:
+                    world.listen(sink)
+                    report = run_exact_gas(gas, world, between)
+                report["events_file"] = args.events
+            else:
+                report = run_exact_gas(gas, world, between)
     except OSError as err:
         streams.err(f"{_PROG}: --events: cannot write {args.events}: {err.strerror or err}")
         return 1
+    finally:
+        bar.close()
     if args.format == "json":
         streams.out(json.dumps(report))
     else:
@@ -257,7 +218,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure."""
     if args.mode == "exact":
         return _run_exact(args, streams)
-    notes = bool(streams.interactive) and not args.quiet
+    notes = not args.quiet
     try:
         steps = limits.steps(args.steps, "steps")
         restitution = limits.restitution(args.restitution, "restitution")
@@ -266,51 +227,56 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
             from ..plotting import check_plot_path  # matplotlib loads only when a plot is asked for
 
             check_plot_path(args.plot)
-        scenario = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
-        world = scenario.world(restitution=restitution, gravity=gravity, backend=args.backend)
+        gas = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
+        compiled = pick_backend(args.backend) == "numba"  # auto: numba, installed with the package
+        world = World(
+            gas.scenario(steps, restitution, gravity),
+            WorldParams(compiled=compiled),
+            notify=streams.err if notes else None,
+            events=False,
+        )
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
         streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
         return 1
-    if world.restitution > 1.0:
-        streams.err(f"warning: restitution {world.restitution:g} > 1: every collision adds kinetic energy")
-    if world.backend == "numba":
-        _warm_up(streams, notes)
-    start_velocities = scenario.velocities
+    if restitution > 1.0:
+        streams.err(f"warning: restitution {restitution:g} > 1: every collision adds kinetic energy")
     energy_start = world.kinetic_energy()
     bar = ProgressBar(streams, label="gas steps")
-    began = time.perf_counter()
     try:
-        with deferred_interrupts() as pending:  # Ctrl-C is checked between chunks of the kernels
-            stepped = step_in_chunks(world, scenario.dt, steps, pending, bar if notes else None)
+        with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the kernels
+            seconds = world.advance(steps, _between(pending, bar if streams.interactive and notes else None))
+    except OutOfRangeError as err:
+        streams.err(f"{_PROG}: {err}")
+        return 65
     finally:
         bar.close()
-    seconds = time.perf_counter() - began
     energy_end = world.kinetic_energy()
+    body_impulses, wall_impulses = world.impulses()
     report: dict[str, Any] = {
-        "n": world.n,
-        "dim": world.dim,
+        "n": gas.n,
+        "dim": gas.dim,
         "steps": steps,
         "seconds": seconds,
-        "body_steps_per_s": world.n * steps / seconds if seconds > 0 else None,
-        "collisions": stepped.body_collisions,
-        "wall_collisions": stepped.wall_collisions,
+        "body_steps_per_s": gas.n * steps / seconds if seconds > 0 else None,
+        "collisions": body_impulses,
+        "wall_collisions": wall_impulses,
         "energy_drift": (energy_end - energy_start) / energy_start if energy_start > 0 else 0.0,
         "kinetic_energy_start": energy_start,
         "kinetic_energy_end": energy_end,
-        "dt": scenario.dt,
+        "dt": gas.dt,
         "seed": args.seed,
-        "restitution": world.restitution,
+        "restitution": restitution,
         "gravity": args.gravity,
-        "backend": world.backend,
-        "bytes_per_body": world.nbytes / world.n,
+        "backend": "numba" if world.compiled else "python",
+        "bytes_per_body": world.nbytes() / gas.n,
     }
     if args.plot is not None:
         try:
             from ..plotting.speeds import save_speed_plot
 
-            save_speed_plot(args.plot, start_velocities, world)
+            save_speed_plot(args.plot, gas.velocities, world.velocity_array[:, : gas.dim], restitution, steps)
         except OSError as err:
             streams.err(f"{_PROG}: --plot: cannot write {args.plot}: {err.strerror or err}")
             return 1

@@ -5,23 +5,30 @@ divide by speeds that may be zero, and an infinite time is the right answer: nev
 Contractions of ``a * b + c`` into fused multiply-adds stay off, so that results do not depend
 on the instruction set of the machine that compiled them.
 
-A caveat of numba's cache: a cached function is recompiled when *its own* file changes, not when
-a function it inlines from another file does. After editing ``predict.py``, ``calendar.py`` or
-``cells.py``, delete the ``__pycache__/*.nb*`` files of this package (a fresh install has none).
+numba recompiles a cached function when *its own* file changes, not when a function it inlines
+from another file does: so the package's cached code is dropped, before anything compiles,
+when any of its files, the engine's geometry kernels (the contact law and the time of impact of
+two balls, inlined here) or the tolerances is newer than it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar, cast
 
-from ..numba_cache import use_user_cache
+from ..numba_cache import cache_files, forget_stale, use_user_cache
 
 use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
+_HERE = Path(__file__).resolve().parent
+#: The package's compiled modules (the rest is plain Python around them).
+_COMPILED = ("calendar", "cells", "compile", "layout", "loop", "predict")
+_INLINED = (_HERE.parent / "engine" / "geometry_kernels.py", _HERE.parent / "tolerances.py")
+forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED])
 
 import numba  # noqa: E402  (after the cache folder is set)
 
-__all__ = ["jit", "jit_inline"]
+__all__ = ["is_cached", "jit", "jit_inline"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 
@@ -36,3 +43,9 @@ def jit_inline(function: _F) -> _F:
     event loop take a dozen arrays each, and a real call would pass every array's descriptor and
     adjust its reference count, which cost more than the work."""
     return cast(_F, numba.njit(cache=True, error_model="numpy", inline="always")(function))
+
+
+def is_cached() -> bool:
+    """Whether numba's cache seems to hold the event loop already (a guess from its index file:
+    a run then loads it in well under a second instead of compiling it)."""
+    return any(f.name.startswith("loop.run_events-") for f in cache_files(_HERE))

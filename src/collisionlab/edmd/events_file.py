@@ -1,6 +1,7 @@
 """Stream the collisions of a run to a file, block by block: CSV or JSON lines.
 
-Nothing is held in memory beyond one block of the compiled loop's buffer; the file is written
+Nothing is held in memory beyond one block of events (what the world hands over after each
+chunk of steps); the file is written
 beside its target and renamed over it only when the run ends well (:mod:`collisionlab.atomic`),
 so a failed run leaves no half-written file.
 
@@ -16,18 +17,15 @@ from __future__ import annotations
 
 import contextlib
 import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TextIO
 
-import numpy as np
-from numpy.typing import NDArray
-
 from ..atomic import atomic_path
 from ..errors import InvalidInputError
-from .world import EventSink
+from ..record import CollisionEvent, EventBlock, Frame, RunRecord, SkippedContact
 
-__all__ = ["EVENT_FORMATS", "event_file", "event_format", "wall_name"]
+__all__ = ["EVENT_FORMATS", "EventsFile", "event_file", "event_format", "wall_name"]
 
 #: File extensions and the format each means.
 EVENT_FORMATS: dict[str, str] = {".csv": "csv", ".jsonl": "jsonl", ".ndjson": "jsonl"}
@@ -51,35 +49,48 @@ def event_format(path: str | Path) -> str:
     return kind
 
 
-def _other(code: int) -> int | str:
-    return code if code >= 0 else wall_name(code)
+class EventsFile:
+    """Writes a world's collisions to an open text file as they happen, one line each: a
+    :class:`~collisionlab.record.RunObserver` of the events alone (``World.listen``). Bodies are
+    written by their index in the order given, a wall by its name (``x-``); a body comes first."""
 
+    def __init__(self, out: TextIO, kind: str) -> None:
+        self._out, self._kind = out, kind
 
-def _write(out: TextIO, kind: str, block: NDArray[np.float64]) -> None:
-    times = block[:, 0].tolist()
-    a = block[:, 1].astype(np.int64).tolist()
-    b = block[:, 2].astype(np.int64).tolist()
-    impulses = block[:, 3].tolist()
-    if kind == "csv":
-        out.write("".join(f"{t!r},{i},{_other(j)},{p!r}\n" for t, i, j, p in zip(times, a, b, impulses, strict=True)))
-    else:
-        out.write(
-            "".join(
-                json.dumps({"time": t, "pair": [i, _other(j)], "impulse": p}) + "\n"
-                for t, i, j, p in zip(times, a, b, impulses, strict=True)
+    def begin(self, record: RunRecord) -> None:
+        pass
+
+    def frame(self, frame: Frame) -> None:
+        pass
+
+    def warning(self, text: str) -> None:
+        pass
+
+    def end(self, record: RunRecord) -> None:
+        pass
+
+    def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
+        if not isinstance(events, EventBlock):
+            raise TypeError("an events file is written from a world's event blocks")
+        a, b = events.a.tolist(), events.b.tolist()
+        wall = [x < 0 for x in a]
+        first = [y if w else x for x, y, w in zip(a, b, wall, strict=True)]
+        second: list[int | str] = [wall_name(x) if w else y for x, y, w in zip(a, b, wall, strict=True)]
+        rows = zip(events.time.tolist(), first, second, events.impulse.tolist(), strict=True)
+        if self._kind == "csv":
+            self._out.write("".join(f"{t!r},{i},{j},{p!r}\n" for t, i, j, p in rows))
+        else:
+            self._out.write(
+                "".join(json.dumps({"time": t, "pair": [i, j], "impulse": p}) + "\n" for t, i, j, p in rows)
             )
-        )
 
 
 @contextlib.contextmanager
-def event_file(path: str | Path) -> Iterator[EventSink]:
-    """A sink for :meth:`EventDrivenWorld.run` writing to ``path`` (format from its extension)."""
+def event_file(path: str | Path) -> Iterator[EventsFile]:
+    """An :class:`EventsFile` writing to ``path`` (format from its extension), written whole or
+    not at all."""
     kind = event_format(path)
     with atomic_path(path) as temporary, open(temporary, "w", encoding="utf-8", newline="") as out:
         if kind == "csv":
             out.write("time,a,b,impulse\n")
-
-        def sink(block: NDArray[np.float64]) -> None:
-            _write(out, kind, block)
-
-        yield sink
+        yield EventsFile(out, kind)

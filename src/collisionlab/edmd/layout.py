@@ -16,6 +16,7 @@ The constants are module globals; numba freezes them into the compiled code.
 ``NB``     neighbour lists, one row per body, ``NB[i, :IX[i, NNB]]``
 ``P``      float parameters (``P_*``); ``Q`` int parameters (``Q_*``)
 ``G``      float accumulators (``G_*``); ``K`` int64 counters (``K_*``)
+``buf``    events as they happen, ``EVENT_BRIEF`` or ``EVENT_FULL`` columns
 =========  ==============================================================================
 
 Walls are numbered ``2 k`` (the low side of axis ``k``) and ``2 k + 1`` (the high side).
@@ -29,7 +30,10 @@ __all__ = [
     "COUNT",
     "CPREV",
     "EDGE",
+    "EVENT_BRIEF",
+    "EVENT_FULL",
     "EVT",
+    "G_KINETIC",
     "G_LOST",
     "G_MAX_OVERLAP",
     "G_NOW",
@@ -145,7 +149,8 @@ G_VIRIAL = 1  # sum over pair collisions of r_ij . delta p_i (the collision viri
 G_MAX_OVERLAP = 2  # deepest overlap met at a contact, in length units
 G_LOST = 3  # kinetic energy taken by inelastic collisions
 G_WALL = 4  # momentum given to each wall, 6 values
-NG = 10
+G_KINETIC = 10  # kinetic energy the collisions changed, measured from the velocities before and after
+NG = 11
 
 # K: int64 counters and calendar state
 K_PAIRS = 0
@@ -158,3 +163,11 @@ K_CUR = 6  # index of the current block
 K_BUCKETED = 7  # bodies in the ring lists (not the overflow)
 K_BUFFERED = 8  # events written into the event buffer
 NK = 9
+
+# The event buffer's columns: time, body a, body b (a wall: ``-1 - wall``), impulse; a buffer
+# with ``EVENT_FULL`` columns also gets the working: the unit normal from a to b (3), the
+# contact point (3), the normal speed before ``(v_b - v_a) . n`` (negative: approaching), the
+# restitution applied, then the velocities of a before, b before, a after, b after (3 each; a
+# wall's are 0).
+EVENT_BRIEF = 4
+EVENT_FULL = 24

@@ -6,10 +6,11 @@ event and handles it:
 
 * a **pair** collision with ``j``: if ``j`` has collided since the event was scheduled (its
   counter moved on) the event is stale and ``i`` is only predicted again; otherwise both are
-  moved to the moment of contact and given the impulse along the line of centres,
-  ``dv_i = -(1 + e)/2 (b / |r|^2) r`` (equal masses, ``b = r . v_ij``; exactly energy
-  conserving for ``e = 1`` up to rounding since the projection divides by the same ``|r|^2``);
-* a **wall**: the velocity component across it is reversed and scaled by ``e``;
+  moved to the moment of contact and given the impulse of the engine's contact law along the
+  line of centres (:func:`~collisionlab.engine.geometry_kernels.impulse_magnitude`,
+  ``j = -(1 + e) v_n / (1/m + 1/m)``, ``v_n = r . v_ij / |r|``), the same change ``j / m`` for
+  both, so momentum is kept exactly;
+* a **wall**: the same law with the wall's infinite mass, ``-e`` times the velocity across it;
 * a **neighbour-list** event: ``i``'s list is built again around its present position;
 
 then the bodies touched get their next event. Inelastic collapse (infinitely many collisions
@@ -35,7 +36,9 @@ from .compile import jit, jit_inline
 from .layout import (
     COUNT,
     EDGE,
+    EVENT_FULL,
     EVT,
+    G_KINETIC,
     G_LOST,
     G_MAX_OVERLAP,
     G_NOW,
@@ -72,7 +75,7 @@ from .layout import (
     V,
     X,
 )
-from .predict import ceiling_time, contact_time, floor_time, leave_time, wall_time
+from .predict import ceiling_time, contact_time, floor_time, impulse_magnitude, leave_time, wall_time
 
 __all__ = ["BUFFER_FULL", "DONE", "EVENT_LIMIT", "LIST_FULL", "max_overlap_now", "run_events", "start", "synchronize"]
 
@@ -183,14 +186,42 @@ def _restitution(F: Any, P: Any, i: int, j: int, now: float) -> float:
 
 
 @jit_inline
-def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> None:
-    n = K[K_BUFFERED]
-    if n < buf.shape[0]:
-        buf[n, 0] = now
-        buf[n, 1] = a
-        buf[n, 2] = b
-        buf[n, 3] = impulse
-        K[K_BUFFERED] = n + 1
+def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> int:
+    """Start an event's row (time, a, b, impulse); returns its index, or -1 when the buffer has
+    no room (the loop stops for it to be emptied before that happens)."""
+    n: int = K[K_BUFFERED]
+    if n >= buf.shape[0]:
+        return -1
+    buf[n, 0] = now
+    buf[n, 1] = a
+    buf[n, 2] = b
+    buf[n, 3] = impulse
+    K[K_BUFFERED] = n + 1
+    return n
+
+
+@jit_inline
+def _record_working(
+    buf: Any, row: int, nx: float, ny: float, nz: float, px: float, py: float, pz: float, vn: float, e: float
+) -> None:
+    """The normal, the contact point, the normal speed before and ``e`` of row ``row`` (an
+    ``EVENT_FULL`` buffer); the velocities are written by :func:`_record_velocities`."""
+    buf[row, 4] = nx
+    buf[row, 5] = ny
+    buf[row, 6] = nz
+    buf[row, 7] = px
+    buf[row, 8] = py
+    buf[row, 9] = pz
+    buf[row, 10] = vn
+    buf[row, 11] = e
+
+
+@jit_inline
+def _record_velocities(buf: Any, row: int, column: int, F: Any, i: int) -> None:
+    """Body ``i``'s velocity into columns ``column .. column + 2`` of row ``row``."""
+    buf[row, column] = F[i, V]
+    buf[row, column + 1] = F[i, V + 1]
+    buf[row, column + 2] = F[i, V + 2]
 
 
 @jit_inline
@@ -218,28 +249,49 @@ def _collide(
         _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
     r2 = dx * dx + dy * dy + dz * dz
-    e = _restitution(F, P, i, j, now)
-    f = 0.5 * (1.0 + e) * b / r2
-    F[i, V] -= f * dx
-    F[i, V + 1] -= f * dy
-    F[i, V + 2] -= f * dz
-    F[j, V] += f * dx
-    F[j, V + 1] += f * dy
-    F[j, V + 2] += f * dz
-    m = P[P_MASS]
-    G[G_VIRIAL] -= 0.5 * (1.0 + e) * m * b  # r . dp_i = -f m r^2, positive
-    G[G_LOST] += 0.25 * m * (1.0 - e * e) * b * b / r2  # (1 - e^2)/2 mu v_n^2, mu = m/2
     r = math.sqrt(r2)
+    e = _restitution(F, P, i, j, now)
+    m = P[P_MASS]
+    # The contact law (collisionlab.engine.geometry_kernels): along n = (x_j - x_i) / r, i
+    # approaches j at v_n = b / r < 0; j = -(1 + e) v_n / (1/m + 1/m), i gets -j n / m, j gets
+    # +j n / m (lab eqs. 12, 15).
+    impulse = impulse_magnitude(b / r, 2.0 / m, e)
+    f = impulse / (m * r)  # per unit of -(x_i - x_j): the change of velocity along dx
+    row = -1
+    if buf.shape[0] > 0:
+        row = _record(buf, K, now, i, j, impulse)
+        if row >= 0 and buf.shape[1] >= EVENT_FULL:
+            ri = P[P_RADIUS] / r
+            _record_working(
+                buf, row, -dx / r, -dy / r, -dz / r, F[i, X] - dx * ri, F[i, X + 1] - dy * ri, F[i, X + 2] - dz * ri,
+                b / r, e,
+            )  # fmt: skip
+            _record_velocities(buf, row, 12, F, i)
+            _record_velocities(buf, row, 15, F, j)
+    kinetic = F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2 + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
+    F[i, V] += f * dx
+    F[i, V + 1] += f * dy
+    F[i, V + 2] += f * dz
+    F[j, V] -= f * dx
+    F[j, V + 1] -= f * dy
+    F[j, V + 2] -= f * dz
+    kinetic_after = (
+        F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2 + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
+    )
+    G[G_KINETIC] += 0.5 * m * (kinetic_after - kinetic)
+    G[G_VIRIAL] += impulse * r  # r_ij . dp_i = (j / r) r^2, positive
+    G[G_LOST] += 0.25 * m * (1.0 - e * e) * b * b / r2  # (1 - e^2)/2 mu v_n^2, mu = m/2
     overlap = 2.0 * P[P_RADIUS] - r
     if overlap > G[G_MAX_OVERLAP]:
         G[G_MAX_OVERLAP] = overlap
+    if row >= 0 and buf.shape[1] >= EVENT_FULL:
+        _record_velocities(buf, row, 18, F, i)
+        _record_velocities(buf, row, 21, F, j)
     F[i, TLAST] = now
     F[j, TLAST] = now
     IX[i, COUNT] += 1
     IX[j, COUNT] += 1
     K[K_PAIRS] += 1
-    if buf.shape[0] > 0:
-        _record(buf, K, now, i, j, -0.5 * (1.0 + e) * m * b / r)
     calendar_remove(heap, lists, F, IX, Q, K, j)
     _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
     _predict(heap, lists, F, IX, NB, P, Q, K, j, now)
@@ -263,24 +315,42 @@ def _bounce(
         _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
     e = _restitution(F, P, i, -1, now)
-    after = -e * v
+    inward = -1.0 if high else 1.0  # the wall's normal, towards the body
+    m = P[P_MASS]
+    vn = v * inward  # negative: moving into the wall
+    # The contact law with the wall's infinite mass (lab eq. 24): j = -(1 + e) v_n m.
+    after = v + inward * impulse_magnitude(vn, 1.0 / m, e) / m
     if floor:
         # The floor never sends a body back for less than t_c: the flight after a bounce lasts
         # 2 v / g >= t_c. Without this a body pressed onto the floor by one above it could
         # chatter at ever smaller speeds, elastically (TC), at an unbounded rate.
         after = max(after, 0.5 * g * P[P_TC])
+    impulse = m * abs(after - v)
+    row = -1
+    if buf.shape[0] > 0:
+        row = _record(buf, K, now, i, -1 - wall, impulse)
+        if row >= 0 and buf.shape[1] >= EVENT_FULL:
+            # The normal from the body (a) to the wall (b), against the wall's own.
+            nx = -inward if k == 0 else 0.0
+            ny = -inward if k == 1 else 0.0
+            nz = -inward if k == 2 else 0.0
+            _record_working(buf, row, nx, ny, nz, F[i, X] + r * nx, F[i, X + 1] + r * ny, F[i, X + 2] + r * nz, vn, e)
+            _record_velocities(buf, row, 12, F, i)
+            for c in range(15, 18):
+                buf[row, c] = 0.0
+                buf[row, c + 6] = 0.0
     F[i, V + k] = after
-    impulse = P[P_MASS] * abs(after - v)
+    if row >= 0 and buf.shape[1] >= EVENT_FULL:
+        _record_velocities(buf, row, 18, F, i)
     G[G_WALL + wall] += impulse
-    G[G_LOST] += 0.5 * P[P_MASS] * (v * v - after * after)
+    G[G_LOST] += 0.5 * m * (1.0 - e * e) * vn * vn  # theory: (1 - e^2)/2 m v_n^2 (the floor's rule aside)
+    G[G_KINETIC] += 0.5 * m * (after * after - v * v)
     overlap = F[i, X + k] - (P[P_L + k] - r) if high else r - F[i, X + k]
     if overlap > G[G_MAX_OVERLAP]:
         G[G_MAX_OVERLAP] = overlap
     F[i, TLAST] = now
     IX[i, COUNT] += 1
     K[K_WALLS] += 1
-    if buf.shape[0] > 0:
-        _record(buf, K, now, i, -1 - wall, impulse)
     _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
 
 

@@ -15,24 +15,32 @@ routes differ by a surface term of order ``sigma / L``. ``kT = 2 E_kin / (d N)``
 
 from __future__ import annotations
 
-import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any, Literal
 
 from .. import limits
 from ..errors import InvalidInputError
+from ..model import BodyBlock, Box, Scenario, Settings
 from ..validate import non_negative, positive, whole_number
+from ..vector import Vector3D
 from .start import box_side, gaussian_velocities, lattice
 from .theory import enskog_collision_rate, ideal_compressibility
-from .world import EventDrivenWorld, EventSink
+from .world import EventDrivenWorld
 
-__all__ = ["BOUNDARIES", "DEFAULT_TC", "ExactGas", "measure", "run_exact_gas"]
+if TYPE_CHECKING:
+    from ..engine.world import World
+
+__all__ = ["BOUNDARIES", "DEFAULT_TC", "FRAMES", "ExactGas", "measure", "run_exact_gas"]
 
 #: ``collisionlab gas --boundary``: hard walls, or a periodic box.
 BOUNDARIES: tuple[str, ...] = ("walls", "periodic")
 #: Time units (radius 1, mass 1, kT 1: a typical ball moves 0.01 radius in it). The TC model's
 #: ``t_c`` when ``e < 1`` or under gravity and none is given; see :mod:`.loop` for what it does.
 DEFAULT_TC = 0.01
+#: Steps of an exact gas's scenario: the world brings every ball to the end of each step it is
+#: asked for (a frame), and takes as many steps in one call as fill a fraction of a second.
+FRAMES = 1000
 
 
 @dataclass(frozen=True)
@@ -71,6 +79,8 @@ class ExactGas:
         # The same range as every scenario (collisionlab.limits): e = 1e308 would run for ever.
         restitution = limits.restitution(self.restitution, "restitution")
         gravity = limits.within(non_negative(self.gravity, "gravity"), "gravity", 0.0, limits.MAX_ACCELERATION)
+        if gravity > 0.0 and self.boundary == "periodic":
+            raise InvalidInputError("gravity", "needs walls (a periodic box has no floor)", got=gravity)
         if tc is None:
             tc = DEFAULT_TC if restitution < 1.0 or gravity > 0.0 else 0.0
         return ExactGas(
@@ -87,6 +97,33 @@ class ExactGas:
             radius=positive(self.radius, "radius"),
             mass=positive(self.mass, "mass"),
         )
+
+    def scenario(self, frames: int = FRAMES) -> Scenario:
+        """The gas as a scenario: the balls as one block named ``ball`` in a box ``[0, L]`` of
+        walls or periodic, ``mode = "exact"``: the engine's world runs it event by event
+        (:mod:`collisionlab.engine.event_stepper`), ``frames`` steps of ``time / frames``."""
+        s = self.checked()
+        periodic = s.boundary == "periodic"
+        shape: Literal["circle", "sphere"] = "circle" if s.dim == 2 else "sphere"
+        block = BodyBlock(
+            "ball",
+            shape,
+            (s.radius,) * 3,
+            lattice(s.n, s.dim, s.fraction, s.radius, periodic, s.seed),
+            gaussian_velocities(s.n, s.dim, s.kt, s.mass, s.seed),
+            s.mass,
+        )
+        side = box_side(s.n, s.dim, s.fraction, s.radius)
+        settings = Settings(
+            dt=s.time / frames,
+            steps=frames,
+            restitution=s.restitution,
+            gravity=Vector3D(0.0, -s.gravity, 0.0),
+            mode="exact",
+            tc=s.tc,
+        )
+        box = Box((0.0,) * s.dim, (side,) * s.dim, "periodic" if periodic else "walls")
+        return Scenario(settings, [block], title=f"exact gas of {s.n:,} {shape}s", box=box)
 
     def world(self) -> EventDrivenWorld:
         s = self.checked()
@@ -142,16 +179,22 @@ def measure(world: EventDrivenWorld, energy_start: float, seconds: float) -> dic
 
 
 def run_exact_gas(
-    gas: ExactGas, sink: EventSink | None = None, world: EventDrivenWorld | None = None
+    gas: ExactGas, world: World | None = None, between: Callable[[int, int], None] | None = None
 ) -> dict[str, Any]:
-    """Run ``gas`` (built now unless ``world``, fresh from ``gas.world()``, is given) for
-    ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``."""
+    """Run ``gas`` on the engine's world (``world``, fresh from ``World(gas.scenario())``, or one
+    made now) for ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``.
+    ``between(done, total)`` is called between chunks of steps (progress, Ctrl-C)."""
+    from ..engine.event_stepper import EventDrivenStepper
+    from ..engine.world import World
+
     gas = gas.checked()
-    world = gas.world() if world is None else world
-    energy_start = world.kinetic_energy() + world.potential_energy()
-    began = time.perf_counter()
-    world.run(gas.time, sink)
-    seconds = time.perf_counter() - began
+    world = World(gas.scenario(), events=False) if world is None else world
+    stepper = world.stepper
+    if not isinstance(stepper, EventDrivenStepper):
+        raise InvalidInputError("world", "must run the gas event by event (a world of gas.scenario())")
+    balls = stepper.world
+    energy_start = balls.kinetic_energy() + balls.potential_energy()
+    seconds = world.advance(world.scenario.settings.steps - world.step_index, between)
     report: dict[str, Any] = {
         "n": gas.n,
         "dim": gas.dim,
@@ -163,7 +206,8 @@ def run_exact_gas(
         "gravity": gas.gravity,
         "tc": gas.tc,
     }
-    report.update(measure(world, energy_start, seconds))
+    report.update(measure(balls, energy_start, seconds))
+    report["bytes_per_body"] = world.nbytes() / gas.n
     elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
     report["compressibility_theory"] = ideal_compressibility(gas.fraction, gas.dim) if elastic_gas else None
     report["collision_rate_enskog"] = (

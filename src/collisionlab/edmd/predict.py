@@ -13,7 +13,7 @@ It is evaluated as ``t = a / (-b + sqrt(b^2 - v^2 a))`` (the same root, no cance
 under gravity the wall perpendicular to ``y`` a quadratic whose root is picked by the sign of
 the velocity at contact. All functions return a time from now (>= 0), ``inf`` for never.
 
->>> pair_time(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0, math.inf)   # gap 3 - 2 = 1 closed at speed 1
+>>> contact_time(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0)   # gap 3 - 2 = 1 closed at speed 1
 1.0
 >>> round(floor_time(3.0, 0.0, 1.0, 2.0), 12)                   # fall 2 under g = 2: sqrt(2)
 1.414213562373
@@ -23,51 +23,16 @@ from __future__ import annotations
 
 import math
 
+from ..engine import geometry_kernels as gk
 from .compile import jit_inline
 
-__all__ = ["ceiling_time", "contact_time", "floor_time", "leave_time", "pair_time", "wall_time"]
+__all__ = ["ceiling_time", "contact_time", "floor_time", "impulse_magnitude", "leave_time", "wall_time"]
 
-
-@jit_inline
-def pair_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma2: float, tmin: float) -> float:
-    """Time until two balls ``sigma = sqrt(sigma2)`` apart (centre to centre) touch, given their
-    relative position ``dr`` and velocity ``dv``; ``inf`` if they miss, move apart, or cannot
-    meet before ``tmin``. Touching or overlapping and approaching: 0 (collide now)."""
-    b = dx * dvx + dy * dvy + dz * dvz
-    if b >= 0.0:
-        return math.inf
-    a = dx * dx + dy * dy + dz * dz - sigma2
-    # The root is at least a / (-2 b) (the square root is at most -b): prune without it.
-    if a > -2.0 * b * tmin:
-        return math.inf
-    v2 = dvx * dvx + dvy * dvy + dvz * dvz
-    disc = b * b - v2 * a
-    if disc <= 0.0:
-        return math.inf
-    if a <= 0.0:
-        return 0.0
-    return a / (-b + math.sqrt(disc))
-
-
-@jit_inline
-def contact_time(dx: float, dy: float, dz: float, dvx: float, dvy: float, dvz: float, sigma2: float) -> float:
-    """:func:`pair_time` with no ``tmin`` (the same value as ``pair_time(..., inf)``), computed
-    without branches: the event loop tests every neighbour, and whether a pair approaches is a
-    coin toss the processor cannot predict, so a mispredicted branch cost more than always taking
-    the square root and the division. A pruned pair (see :func:`pair_time`) meets later than
-    ``tmin``, so testing it in full never changes which neighbour is soonest.
-
-    >>> contact_time(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0), contact_time(3.0, 0.0, 0.0, 1.0, 0.0, 0.0, 4.0)
-    (1.0, inf)
-    """
-    b = dx * dvx + dy * dvy + dz * dvz
-    a = dx * dx + dy * dy + dz * dz - sigma2
-    v2 = dvx * dvx + dvy * dvy + dvz * dvz
-    disc = b * b - v2 * a
-    # max(): a miss (disc < 0) would take the root of a negative; its time is discarded below.
-    root = a / (-b + math.sqrt(max(disc, 0.0)))
-    t = 0.0 if a <= 0.0 else root
-    return t if (b < 0.0) & (disc > 0.0) else math.inf
+#: Two balls' time of impact, tested against every neighbour (no ``tmin``: see
+#: :func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`, why without branches),
+#: and the contact law: the engine's kernels, written once there, compiled into the loop here.
+contact_time = jit_inline(gk.time_of_impact_ball_ball)
+impulse_magnitude = jit_inline(gk.impulse_magnitude)
 
 
 @jit_inline

@@ -21,7 +21,8 @@ from .loop import BUFFER_FULL, LIST_FULL, max_overlap_now, run_events, start, sy
 
 __all__ = ["EventDrivenWorld", "EventSink", "Tally", "shell_for"]
 
-#: Receives a block of events, one row each: time, body a, body b (or ``-1 - wall``), impulse.
+#: Receives a block of events, one row each: time, body a, body b (or ``-1 - wall``), impulse,
+#: and with ``run(..., working=True)`` the rest of the columns :mod:`.layout` documents.
 EventSink = Callable[[NDArray[np.float64]], None]
 
 #: Neighbour-list reach in diameters (Smallenburg's ``1 + alpha``; he uses 1.5) in 2D and under
@@ -214,11 +215,15 @@ class EventDrivenWorld:
     def time(self) -> float:
         return float(self.G[L.G_NOW])
 
-    def run(self, until: float, sink: EventSink | None = None, max_events: int | None = None) -> None:
+    def run(
+        self, until: float, sink: EventSink | None = None, max_events: int | None = None, working: bool = False
+    ) -> None:
         """Handle every event up to time ``until`` (or stop after ``max_events``), then bring
-        every body to that time. ``sink`` receives the events in blocks as they happen."""
+        every body to that time. ``sink`` receives the events in blocks as they happen, with
+        each one's working (normal, point, normal speed, e, velocities) when ``working``."""
         limit = np.iinfo(np.int64).max if max_events is None else int(max_events)
-        buffer = np.zeros((BUFFER_EVENTS if sink is not None else 0, 4))
+        columns = L.EVENT_FULL if working else L.EVENT_BRIEF
+        buffer = np.zeros((BUFFER_EVENTS if sink is not None else 0, columns))
         while True:
             before = int(self.K[L.K_EVENTS])
             status = run_events(
@@ -242,6 +247,18 @@ class EventDrivenWorld:
                 continue
             break  # DONE or EVENT_LIMIT
         synchronize(self.F, self.P, self.time)
+
+    def state(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Centres (inside the box also with periodic walls) and velocities at :attr:`time`, in
+        the caller's order: one pass over the bodies."""
+        synchronize(self.F, self.P, self.time)
+        pos = np.empty((self.n, self.dim))
+        vel = np.empty((self.n, self.dim))
+        pos[self.order] = self.F[:, L.X : L.X + self.dim]
+        vel[self.order] = self.F[:, L.V : L.V + self.dim]
+        if self.periodic:
+            pos -= np.floor(pos / self.sides) * self.sides
+        return pos, vel
 
     @property
     def positions(self) -> NDArray[np.float64]:

@@ -1,7 +1,8 @@
-"""The engine: one world that owns its state in arrays and steps it two ways.
+"""The engine: one world that owns its state in arrays and steps it, the lab's way (Forward
+Euler) or exactly.
 
-* :mod:`.geometry_kernels` - the narrow phase and the contact law as scalar kernels, written
-  once: the scalar API calls them as Python, the steppers compiled.
+* :mod:`.geometry_kernels` - the narrow phase, the contact law and two balls' time of impact as
+  scalar kernels, written once: the scalar API calls them as Python, the steppers compiled.
 * :mod:`.params` - :class:`WorldParams`, every tunable of a world in one typed object.
 * :mod:`.state` - the structure of arrays a world steps, built from a scenario.
 * :mod:`.step_kernels` - the Forward Euler stepper over arrays (grid broad phase, contacts in
@@ -11,7 +12,10 @@
   calls (scratch, the pairs in contact, buffers) and the one call that advances it.
 * :mod:`.exact_kernels` - the exact stepper over the same arrays (times of impact within each
   step, earliest first from an event calendar); :mod:`.exact_stepper` keeps its state between calls.
-* :mod:`.world` - :class:`World`: owns the state, steps it either way, records what happened.
+* :mod:`.event_stepper` - balls in a box run event by event (the loop of
+  :mod:`collisionlab.edmd`: neighbour lists, an event calendar), for ``mode = "exact"``.
+* :mod:`.world` - :class:`World`: owns the state, steps it, records what happened and tells it
+  to an observer as it happens.
 """
 
 from __future__ import annotations

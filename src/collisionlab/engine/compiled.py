@@ -14,13 +14,12 @@ geometry file changed since it was written, so an edit there can never run stale
 from __future__ import annotations
 
 import importlib.util
-import os
 import sys
 import types
 from pathlib import Path
 from typing import Any
 
-from ..numba_cache import use_user_cache
+from ..numba_cache import cache_files, forget_stale, use_user_cache
 
 __all__ = ["exact_kernels", "is_cached", "kernels"]
 
@@ -53,14 +52,6 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     return module
 
 
-def _cache_files(stem: str) -> list[Path]:
-    """numba's cache files of the functions of ``stem``.py (next to it, or under NUMBA_CACHE_DIR)."""
-    folders = [_HERE / "__pycache__"]
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        folders.append(Path(os.environ["NUMBA_CACHE_DIR"]))
-    return [f for folder in folders if folder.exists() for f in folder.glob(f"**/{stem}.*.nb[ic]")]
-
-
 #: Each kernel file and the files whose code its machine code contains.
 _CALLS = {"step_kernels": ("geometry_kernels",), "exact_kernels": ("geometry_kernels", "step_kernels")}
 
@@ -68,12 +59,8 @@ _CALLS = {"step_kernels": ("geometry_kernels",), "exact_kernels": ("geometry_ker
 def _forget_stale() -> None:
     """Remove a kernel file's cached code if a file it calls is newer than it."""
     for stem, callees in _CALLS.items():
-        newest = max((_HERE / f"{callee}.py").stat().st_mtime for callee in callees)
-        newest = max(newest, (_HERE.parent / "tolerances.py").stat().st_mtime)  # constants it bakes in
-        cached = _cache_files(stem)
-        if cached and min(f.stat().st_mtime for f in cached) < newest:
-            for f in cached:
-                f.unlink(missing_ok=True)
+        sources = [_HERE / f"{callee}.py" for callee in callees] + [_HERE.parent / "tolerances.py"]
+        forget_stale(_HERE, [stem], sources)
 
 
 def _load() -> None:
@@ -106,4 +93,4 @@ def is_cached(exact: bool = False) -> bool:
     well under a second instead of compiling); a guess from the cache's index file."""
     use_user_cache()
     stem, entry = ("exact_kernels", "run_exact_steps") if exact else ("step_kernels", "run_steps")
-    return any(f.name.startswith(f"{stem}.{entry}-") for f in _cache_files(stem))
+    return any(f.name.startswith(f"{stem}.{entry}-") for f in cache_files(_HERE))

@@ -32,6 +32,7 @@ __all__ = [
     "separation_box_box",
     "separation_wall_ball",
     "separation_wall_box",
+    "time_of_impact_ball_ball",
 ]
 
 Sep = tuple[float, float, float, float, float, float, float]
@@ -341,3 +342,36 @@ def impulse_magnitude(normal_speed: float, inverse_mass_sum: float, restitution:
     3.0
     """
     return -(1.0 + restitution) * normal_speed / inverse_mass_sum
+
+
+# --- time of impact -------------------------------------------------------------------------------
+def time_of_impact_ball_ball(dx: float, dy: float, dz: float, wx: float, wy: float, wz: float, reach2: float) -> float:
+    """When two balls whose centres are ``d`` apart (B minus A), moving at relative velocity
+    ``w`` (B minus A) in straight flight, come within ``sqrt(reach2)`` (the sum of the radii):
+    the smaller root of ``|d + w t|^2 = reach^2`` (Ericson, *Real-Time Collision Detection*,
+    4.4.3), ``t = a / (-b + sqrt(b^2 - w^2 a))`` with ``a = |d|^2 - reach^2``, ``b = d . w``: the
+    same root as ``(-b - sqrt(...)) / w^2`` without its cancellation when ``a`` is small (two
+    balls just apart). Approaching (``b < 0``) and already touching or overlapping: 0. Not
+    approaching, or passing wide (``b^2 < w^2 a``): ``inf``; a graze (``b^2 = w^2 a``) touches
+    at ``-a / b``.
+
+    Written with no branch on whether the pair approaches: a many-body stepper tests every
+    neighbour, whether a pair approaches is a coin toss the processor cannot predict, and a
+    mispredicted branch cost more than always taking the square root and the division.
+
+    >>> time_of_impact_ball_ball(3.0, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0)   # gap 3 - 2 closed at speed 1
+    1.0
+    >>> time_of_impact_ball_ball(3.0, 0.0, 0.0, 1.0, 0.0, 0.0, 4.0)    # moving apart
+    inf
+    >>> time_of_impact_ball_ball(3.0, 1.0, 0.0, -1.0, 0.0, 0.0, 1.0)   # (3 - t)^2 + 1 = 1: a graze at t = 3
+    3.0
+    >>> time_of_impact_ball_ball(1.5, 0.0, 0.0, -1.0, 0.0, 0.0, 4.0), time_of_impact_ball_ball(0, 0, 0, 0, 0, 0, 4.0)
+    (0.0, inf)
+    """
+    b = dx * wx + dy * wy + dz * wz
+    a = dx * dx + dy * dy + dz * dz - reach2
+    disc = b * b - (wx * wx + wy * wy + wz * wz) * a
+    den = -b + math.sqrt(max(disc, 0.0))
+    root = a / (den if den > 0.0 else 1.0)  # den <= 0 only when not approaching: discarded below
+    t = 0.0 if a <= 0.0 else root
+    return t if (b < 0.0) & (disc >= 0.0) else math.inf

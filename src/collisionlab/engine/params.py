@@ -7,12 +7,17 @@ from dataclasses import dataclass
 from ..tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED, SOLVER_MARGIN
 from ..validate import non_negative, positive, whole_number
 
-__all__ = ["COMPILE_ABOVE", "DEFAULT_PASSES", "WorldParams"]
+__all__ = ["COMPILE_ABOVE", "DEFAULT_PASSES", "DEFAULT_TC_FRACTION", "WorldParams"]
 
 #: Most sweeps over a step's contacts, for impulses and again for push-apart. A sweep that
 #: changes nothing ends them early, so a dilute gas makes about two; a resting heap needs several
 #: so that a ball pressed between a neighbour and the floor is pushed out within the step.
 DEFAULT_PASSES = 8
+
+#: The TC model's time (event-driven stepper) as a fraction of the time a typical ball takes to
+#: cross its radius: the value ``collisionlab gas --mode exact`` uses (0.01 in units of radius 1
+#: and unit speed), small enough that dilute collisions never feel it (Luding and McNamara 1998).
+DEFAULT_TC_FRACTION = 0.01
 
 #: Body-steps (bodies x steps) above which a world runs the compiled kernels; below it, the same
 #: kernels run as Python (the lab's cases never wait for a compiler).
@@ -30,7 +35,9 @@ class WorldParams:
     farther apart than this. ``rest_speed``: approaches slower than this get e = 0 in a world
     with gravity (without it nothing rests, and a slow graze is a true collision).
     ``passes``: most sweeps of impulses, and of push-apart, per step. ``compiled``: ``None``
-    decides by size (:data:`COMPILE_ABOVE`), ``True``/``False`` force it.
+    decides by size (:data:`COMPILE_ABOVE`), ``True``/``False`` force it. ``tc_fraction``: the
+    event-driven stepper's TC time, when the scenario gives none, as this fraction of the time
+    a typical ball takes to cross its radius (:func:`~collisionlab.engine.event_stepper.default_tc`).
 
     >>> WorldParams().passes
     8
@@ -46,6 +53,7 @@ class WorldParams:
     rest_speed: float = REST_SPEED
     passes: int = DEFAULT_PASSES
     compiled: bool | None = None
+    tc_fraction: float = DEFAULT_TC_FRACTION
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "slop", non_negative(self.slop, "slop"))
@@ -53,3 +61,4 @@ class WorldParams:
         object.__setattr__(self, "contact_margin", positive(self.contact_margin, "contact_margin"))
         object.__setattr__(self, "rest_speed", non_negative(self.rest_speed, "rest_speed"))
         object.__setattr__(self, "passes", whole_number(self.passes, "passes", minimum=1))
+        object.__setattr__(self, "tc_fraction", non_negative(self.tc_fraction, "tc_fraction"))

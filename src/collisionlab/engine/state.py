@@ -22,7 +22,7 @@ from ..model import Scenario
 from ..shapes import AABB, Circle, Line, Plane, Shape
 from . import step_kernels as sk
 
-__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "body_row", "static_row", "statics_of"]
+__all__ = ["BodyArrays", "StaticArrays", "bodies_of", "body_row", "static_names", "static_row", "statics_of"]
 
 Triple = tuple[float, float, float]
 
@@ -84,33 +84,36 @@ def static_row(shape: Shape) -> tuple[int, Triple, Triple]:
 
 
 def bodies_of(scenario: Scenario) -> BodyArrays:
-    """The scenario's moving bodies as arrays, in the order given."""
-    n = len(scenario.bodies)
-    kind = np.zeros(n, np.int64)
-    pos = np.zeros((n, 3))
-    vel = np.zeros((n, 3))
-    ext = np.zeros((n, 3))
-    ima = np.zeros(n)
-    eb = np.full(n, math.nan)
-    for i, body in enumerate(scenario.bodies):
-        kind[i], ext[i] = body_row(body.shape)
-        pos[i] = body.position.as_tuple()
-        vel[i] = body.velocity.as_tuple()
-        ima[i] = 1.0 / body.mass
-        if body.restitution is not None:
-            eb[i] = body.restitution
-    return BodyArrays(kind, pos, vel, ext, ima, eb, np.arange(n, dtype=np.int64))
+    """The scenario's moving bodies as arrays, in the order given (a block's straight from its
+    arrays: no :class:`~collisionlab.model.Body` is built)."""
+    c = scenario.bodies.columns()  # read-only: the world steps its own copies
+    n = c.kind.shape[0]
+    return BodyArrays(
+        c.kind.copy(), c.pos.copy(), c.vel.copy(), c.ext.copy(), c.ima.copy(), c.eb.copy(), np.arange(n, dtype=np.int64)
+    )
 
 
 def statics_of(scenario: Scenario) -> StaticArrays:
-    """The scenario's static obstacles as arrays, in the order given."""
-    m = len(scenario.obstacles)
+    """The scenario's static obstacles as arrays, in the order given, then its box's walls
+    (one-sided, the inside being the box) when it has walls."""
+    obstacles = scenario.obstacles
+    walls = scenario.box.walls() if scenario.box is not None and scenario.box.boundary == "walls" else []
+    m = len(obstacles) + len(walls)
     kind = np.zeros(m, np.int64)
     a = np.zeros((m, 3))
     b = np.zeros((m, 3))
     e = np.full(m, math.nan)
-    for s, obstacle in enumerate(scenario.obstacles):
+    for s, obstacle in enumerate(obstacles):
         kind[s], a[s], b[s] = static_row(obstacle.shape)
         if obstacle.restitution is not None:
             e[s] = obstacle.restitution
+    for w, (_, point, normal) in enumerate(walls):
+        s = len(obstacles) + w
+        kind[s], a[s], b[s] = sk.STATIC_WALL, point, normal
     return StaticArrays(kind, a, b, e)
+
+
+def static_names(scenario: Scenario) -> list[str]:
+    """The names of :func:`statics_of` 's rows: the obstacles', then the walls'."""
+    walls = scenario.box.walls() if scenario.box is not None and scenario.box.boundary == "walls" else []
+    return [o.name for o in scenario.obstacles] + [name for name, _, _ in walls]

@@ -18,7 +18,7 @@ from . import step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
 
-__all__ = ["CELLS_PER_BODY", "EulerStepper", "max_cells", "stencil"]
+__all__ = ["CELLS_PER_BODY", "EulerStepper", "max_cells", "near_pairs", "stencil"]
 
 #: Rows of the event buffer kept between calls; a larger one (after a burst) is let go.
 _EVENT_ROWS_KEPT = 4096
@@ -145,28 +145,23 @@ class EulerStepper:
         if self._events.shape[0] > _EVENT_ROWS_KEPT:
             self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
 
-    def near(self, kernels: ModuleType, margin: float) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-        """Pairs closer than ``margin`` now (ids; a static is ``-1 - s``) and their depths."""
-        b, s = self.bodies, self.statics
-        pairs, depths = kernels.find_near(
-            b.kind,
-            b.pos,
-            b.ext,
-            b.ids,
-            s.kind,
-            s.a,
-            s.b,
-            self.stencil,
-            self.dims,
-            self.min_cell,
-            self.max_cells,
-            margin,
-        )
-        return np.asarray(pairs, np.int64), np.asarray(depths, np.float64)
-
     def nbytes(self) -> int:
         """Bytes of every array held: state, statics, scratch and buffers."""
         s = self.statics
         arrays: list[Any] = [s.kind, s.a, s.b, s.e, self._scratch_f, self._scratch_i, self._cell_start, self._dest]
         arrays += [self._touch_keys, *self._contacts, self._events, self.ledger]
         return self.bodies.nbytes() + sum(int(a.nbytes) for a in arrays)
+
+
+def near_pairs(
+    kernels: ModuleType, bodies: BodyArrays, statics: StaticArrays, dims: int, params: WorldParams, margin: float
+) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Pairs of ``bodies`` (and ``statics``) closer than ``margin`` now, as rows ``(A, B)`` of ids
+    (a static is ``-1 - s``), and their depths; ``kernels`` the step kernels' Python or compiled
+    form. The state is not changed (the grid works on sorted copies)."""
+    min_cell = 2.0 * float(bodies.ext[:, :dims].max()) + params.contact_margin
+    b, s = bodies, statics
+    pairs, depths = kernels.find_near(
+        b.kind, b.pos, b.ext, b.ids, s.kind, s.a, s.b, stencil(dims), dims, min_cell, max_cells(b.n), margin
+    )
+    return np.asarray(pairs, np.int64), np.asarray(depths, np.float64)

@@ -31,27 +31,28 @@ from ..model import Scenario
 from ..record import BodyState, EventBlock, Frame, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import exact_kernels, step_kernels
+from .event_stepper import EventDrivenStepper
 from .exact_kernels import MAX_IMPACTS_PER_STEP
 from .exact_stepper import ExactStepper
 from .params import COMPILE_ABOVE, WorldParams
-from .state import bodies_of, statics_of
-from .stepper import EulerStepper
+from .state import bodies_of, static_names, statics_of
+from .stepper import EulerStepper, near_pairs
 
-__all__ = ["InitialOverlapError", "World", "simulate"]
+__all__ = ["CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
 
-#: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C).
-_CHUNK_SECONDS = 0.1
+#: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
+#: is looked at between calls: it stops a run within a second).
+CHUNK_SECONDS = 0.25
 
 
 class InitialOverlapError(InvalidInputError):
     """Two bodies (or a body and an obstacle) overlap at the start."""
 
 
-def _thickness(kind: int, ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> float:
-    """How far something must travel to pass through a body (tunnelling check)."""
-    if kind <= step_kernels.BALL_3D:
-        return float(2.0 * ext[0])
-    return float(2.0 * min(ext[:dims]))
+def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
+    """How far something must travel to pass through each body (tunnelling check): a ball's
+    diameter, a box's shortest edge."""
+    return np.where(kind <= step_kernels.BALL_3D, 2.0 * ext[:, 0], 2.0 * ext[:, :dims].min(axis=1))
 
 
 class World:
@@ -67,8 +68,14 @@ class World:
     """
 
     def __init__(
-        self, scenario: Scenario, params: WorldParams | None = None, notify: Callable[[str], None] | None = None
+        self,
+        scenario: Scenario,
+        params: WorldParams | None = None,
+        notify: Callable[[str], None] | None = None,
+        events: bool = True,
     ) -> None:
+        """``notify`` hears what takes time (compiling kernels); ``events=False`` records no
+        collision events (a gas counts its impulses, :meth:`impulses`, and keeps no rows)."""
         self.scenario = scenario
         #: Where the world says what takes time (compiling its kernels); the CLI passes stderr.
         self._notify = notify
@@ -79,10 +86,13 @@ class World:
         self.time = 0.0
         self._bodies = bodies_of(scenario)
         self._statics = statics_of(scenario)
-        self._names = [b.name for b in scenario.bodies]
-        self._static_names = [o.name for o in scenario.obstacles]
-        self._masses = [b.mass for b in scenario.bodies]
-        self._mass_array = np.asarray(self._masses, dtype=np.float64)
+        self._names = scenario.bodies.names()
+        self._static_names = static_names(scenario)
+        self._mass_array = scenario.bodies.columns().mass
+        self._finite_masses = np.where(np.isfinite(self._mass_array), self._mass_array, 0.0)
+        #: Whether the stepper keeps the state in its own order (by grid cell; ``ids`` then says
+        #: which body each row is), or in the order given (the event-driven stepper's copy).
+        self._storage_sorts = False
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
         self._kernels: dict[bool, Any] = {}
@@ -108,13 +118,22 @@ class World:
             self.record.warnings.append(warning)
         n = self._bodies.n
         self._exact = settings.mode == "exact"
-        stepper = ExactStepper if self._exact else EulerStepper
-        self._stepper = stepper(self._bodies, self._statics, self.dims, self._gravity, self.params)
         self._impact_limit_warned = False
         self._check_initial_overlap()
+        self._stepper: EulerStepper | EventDrivenStepper
+        if scenario.event_driven:
+            assert scenario.box is not None
+            self._stepper = EventDrivenStepper(
+                self._bodies, self._statics, self.dims, self._gravity, self.params, scenario.box,
+                settings.restitution, settings.tc, events, notify,
+            )  # fmt: skip
+        else:
+            stepper = ExactStepper if self._exact else EulerStepper
+            self._stepper = stepper(self._bodies, self._statics, self.dims, self._gravity, self.params, events)
+            self._storage_sorts = True
         # Per body in the order given (storage is still that order here).
         kinds, extents = self._bodies.kind, self._bodies.ext
-        self._thickness = np.array([_thickness(int(k), e, self.dims) for k, e in zip(kinds, extents, strict=True)])
+        self._thickness = _thickness(kinds, extents, self.dims)
         self._thinnest = float(self._thickness.min())
         compiled = self.params.compiled
         self._compiled = n * settings.steps > COMPILE_ABOVE if compiled is None else compiled
@@ -130,8 +149,45 @@ class World:
         """Bytes of every array the world holds: state, statics, scratch and buffers."""
         return self._stepper.nbytes()
 
+    @property
+    def stepper(self) -> EulerStepper | EventDrivenStepper:
+        """What steps the state: the Forward Euler, exact or event-driven stepper (its arrays and
+        counters, for measurements such as a gas's collision virial)."""
+        return self._stepper
+
+    @property
+    def event_driven(self) -> bool:
+        """Whether the world steps event by event (:mod:`collisionlab.engine.event_stepper`)."""
+        return isinstance(self._stepper, EventDrivenStepper)
+
+    @property
+    def compiled(self) -> bool:
+        """Whether the world runs compiled kernels (numba), not their Python form."""
+        return self._compiled or self.event_driven
+
+    def impulses(self) -> tuple[int, int]:
+        """Impulses applied so far between two bodies and between a body and an obstacle or
+        wall: every collision and every resting contact's push (a gas's collision counts)."""
+        ledger = self._stepper.ledger
+        return int(ledger[5]), int(ledger[6])
+
+    def deepest_overlap(self) -> float:
+        """The deepest overlap of two bodies (or a body and an obstacle or wall) now, in metres;
+        0 when nothing overlaps."""
+        if isinstance(self._stepper, EventDrivenStepper):
+            return max(0.0, self._stepper.world.max_overlap())
+        _, depths = self._near(0.0)
+        return max(0.0, float(depths.max(initial=0.0)))
+
+    def listen(self, observer: RunObserver | None) -> None:
+        """Tell ``observer`` the events of every later :meth:`step` as they are produced (what
+        :meth:`run` does for its own observer); ``None`` stops it."""
+        self._observer = observer
+
     # --- state, in the order the bodies were given --------------------------------------------
     def _given_order(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> np.ndarray[Any, np.dtype[np.float64]]:
+        if not self._storage_sorts:
+            return stored.copy()
         out = np.empty_like(stored)
         out[self._bodies.ids] = stored
         return out
@@ -154,27 +210,28 @@ class World:
     def velocities(self) -> list[Vector3D]:
         return [Vector3D(*row) for row in self.velocity_array.tolist()]
 
-    def _mass_and(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> tuple[Any, Any]:
-        """The masses of the bodies of finite mass and their rows of ``stored`` (any order: sums)."""
-        masses = self._mass_array[self._bodies.ids]
-        live = np.isfinite(masses)
-        return masses[live], stored[live]
+    def _stored_masses(self) -> Any:
+        """The masses in storage order, a kinematic body's (infinite) as 0: it adds nothing to the
+        sums of energy and momentum."""
+        masses = self._finite_masses
+        return masses[self._bodies.ids] if self._storage_sorts else masses
 
-    def kinetic_energy(self) -> float:
-        m, v = self._mass_and(self._bodies.vel)
-        return float(np.sum(0.5 * m * np.einsum("ij,ij->i", v, v)))
+    def kinetic_energy(self, masses: Any = None) -> float:
+        m = self._stored_masses() if masses is None else masses
+        v = self._bodies.vel
+        return float(0.5 * np.dot(m, np.einsum("ij,ij->i", v, v)))
 
-    def potential_energy(self) -> float:
+    def potential_energy(self, masses: Any = None) -> float:
         """``-sum m g.x``: zero at the origin."""
-        m, x = self._mass_and(self._bodies.pos)
-        return float(-np.sum(m * (x @ self._gravity)))
+        m = self._stored_masses() if masses is None else masses
+        return float(-np.dot(m, self._bodies.pos @ self._gravity))
 
     def energy(self) -> float:
         return self.kinetic_energy() + self.potential_energy()
 
-    def momentum(self) -> Vector3D:
-        m, v = self._mass_and(self._bodies.vel)
-        return Vector3D(*np.sum(v * m[:, None], axis=0).tolist())
+    def momentum(self, masses: Any = None) -> Vector3D:
+        m = self._stored_masses() if masses is None else masses
+        return Vector3D(*(m @ self._bodies.vel).tolist())
 
     def frame(self) -> Frame:
         return self._frame(self.position_array, self.velocity_array)
@@ -193,7 +250,8 @@ class World:
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
         large = self._bodies.n * max(1, self._statics.m) > COMPILE_ABOVE // 100
-        return self._stepper.near(self._compiled_kernels(exact=False) if large else step_kernels, margin)
+        kernels = self._compiled_kernels(exact=False) if large else step_kernels
+        return near_pairs(kernels, self._bodies, self._statics, self.dims, self.params, margin)
 
     def _pair_names(self, a: int, b: int) -> tuple[str, str]:
         return (self._static_names[-1 - a] if a < 0 else self._names[a], self._names[b])
@@ -277,16 +335,19 @@ class World:
             self._step_exact(steps)
         else:
             self._step_euler(steps)
-        ledger = self.record.ledger
-        ledger.kinetic_end = self.kinetic_energy()
-        ledger.potential_end = self.potential_energy()
-        ledger.momentum_end = self.momentum()
+        ledger, masses = self.record.ledger, self._stored_masses()
+        ledger.kinetic_end = self.kinetic_energy(masses)
+        ledger.potential_end = self.potential_energy(masses)
+        ledger.momentum_end = self.momentum(masses)
 
     def _step_exact(self, steps: int) -> None:
         stepper = self._stepper
+        if isinstance(stepper, EventDrivenStepper):
+            self._advance(steps, None)  # its own compiled loop: no step kernels
+            return
         assert isinstance(stepper, ExactStepper)
         limited = int(stepper.status[0])
-        self._step_euler(steps, self._compiled_kernels() if self._compiled else exact_kernels)
+        self._advance(steps, self._compiled_kernels() if self._compiled else exact_kernels)
         if int(stepper.status[0]) > limited and not self._impact_limit_warned:
             self._impact_limit_warned = True
             self.record.warnings.append(
@@ -294,13 +355,14 @@ class World:
                 "integrated without them (said once; later steps may do the same)"
             )
 
-    def _step_euler(self, steps: int, kernels: Any = None) -> None:
-        """Advance ``steps`` steps with ``kernels`` (default: the Forward Euler ones) and take the
-        ledger's sums and the events."""
+    def _step_euler(self, steps: int) -> None:
+        self._check_tunnelling()
+        self._advance(steps, self._compiled_kernels() if self._compiled else step_kernels)
+
+    def _advance(self, steps: int, kernels: Any) -> None:
+        """Advance ``steps`` steps with the stepper and ``kernels`` (its Python or compiled form)
+        and take the ledger's sums and the events."""
         settings = self.scenario.settings
-        if kernels is None:
-            self._check_tunnelling()
-            kernels = self._compiled_kernels() if self._compiled else step_kernels
         self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
         self.step_index += steps
         self.time = self.step_index * settings.dt
@@ -353,6 +415,41 @@ class World:
             self._observer.events(block, skipped, self.step_index)
 
     # --- running --------------------------------------------------------------------------------
+    def advance(
+        self,
+        steps: int,
+        between: Callable[[int, int], None] | None = None,
+        clock: Callable[[], float] = time.perf_counter,
+    ) -> float:
+        """:meth:`step` ``steps`` times in chunks of about ``CHUNK_SECONDS`` of compiled work
+        (one step at a time in Python form), checking after each that the numbers stay in the
+        range that can be simulated and calling ``between(done, steps)`` (where a caller shows
+        progress and looks for Ctrl-C). No frames are made. Returns the seconds spent stepping
+        (``clock``'s)."""
+        guard = limits.RangeGuard(self.scenario)
+        gains = self.scenario.energy_warning() is not None  # e > 1: speeds grow, look every step
+        done, chunk, spent = 0, 1, 0.0
+        while done < steps:
+            count = min(chunk, steps - done)
+            started = clock()
+            try:
+                self.step(count)
+            except (InvalidInputError, ArithmeticError) as error:
+                if not limits.is_overflow(error):
+                    raise
+                raise guard.overflowed(self.step_index, error) from None
+            took = clock() - started
+            spent += took
+            done += count
+            warning = guard.check_arrays(self.step_index, self.time, self.position_array, self.velocity_array)
+            if warning:
+                self.record.warnings.append(warning)
+            if between is not None:
+                between(done, steps)
+            if self.compiled and not gains:
+                chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+        return spent
+
     def run(
         self,
         every: int = 1,
@@ -397,7 +494,7 @@ class World:
     ) -> None:
         observer = self._observer
         # Steps per call: one for the Python forms; compiled, as many as take about
-        # _CHUNK_SECONDS, learnt as it goes, so progress and Ctrl-C are never far away.
+        # CHUNK_SECONDS, learnt as it goes, so progress and Ctrl-C are never far away.
         chunk = 1
         while self.step_index < total:
             to_frame = every - self.step_index % every
@@ -419,7 +516,7 @@ class World:
             told = len(self.record.warnings)
             if self._compiled:
                 took = time.perf_counter() - started
-                chunk = max(1, min(4 * chunk, int(count * _CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+                chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
             if self.step_index % every == 0 or self.step_index == total:
                 frame = self._frame(positions, velocities)
                 if not self._keep and len(self.record.frames) > 1:

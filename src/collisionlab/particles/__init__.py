@@ -9,7 +9,7 @@ from plain numpy.
 
 from __future__ import annotations
 
-from .backend import BACKENDS, warm_up
+from .backend import BACKENDS, pick_backend, warm_up
 from .broadphase import brute_force_pairs, grid_pairs
 from .maxwell import component_variance, speed_pdf
 from .scenarios import GasScenario, gas_scenario
@@ -25,6 +25,7 @@ __all__ = [
     "component_variance",
     "gas_scenario",
     "grid_pairs",
+    "pick_backend",
     "speed_pdf",
     "warm_up",
 ]

@@ -11,12 +11,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InvalidInputError
+from ..model import BodyBlock, Box, Scenario, Settings
 from ..validate import positive, whole_number
+from ..vector import Vector3D
 from .world import ParticleWorld
 
 __all__ = ["SPEED_DISTRIBUTIONS", "GasScenario", "ball_volume", "gas_scenario"]
@@ -53,6 +56,20 @@ class GasScenario:
     @property
     def dim(self) -> int:
         return int(self.positions.shape[1])
+
+    def scenario(self, steps: int, restitution: float = 1.0, gravity: float = 0.0) -> Scenario:
+        """The gas as a scenario for the engine's world (Forward Euler, ``dt``): the balls as one
+        block named ``ball`` (unit masses), in a box of walls ``[0, side]``; ``gravity`` pulls
+        along -y. What ``collisionlab gas`` runs.
+
+        >>> gas_scenario(100, 2, seed=1).scenario(10).box.sides == (gas_scenario(100, 2).side,) * 2
+        True
+        """
+        shape: Literal["circle", "sphere"] = "circle" if self.dim == 2 else "sphere"
+        block = BodyBlock("ball", shape, (self.radius,) * 3, self.positions, self.velocities)
+        settings = Settings(dt=self.dt, steps=steps, restitution=restitution, gravity=Vector3D(0.0, -gravity, 0.0))
+        box = Box((0.0,) * self.dim, (self.side,) * self.dim, "walls")
+        return Scenario(settings, [block], title=f"gas of {self.n:,} {shape}s", box=box)
 
     def world(self, restitution: float = 1.0, gravity: float = 0.0, backend: str = "auto") -> ParticleWorld:
         """The scenario as a :class:`ParticleWorld` (unit masses; ``gravity`` pulls along -y)."""

@@ -12,20 +12,23 @@ from typing import Any
 import numpy as np
 
 from ..atomic import atomic_path
-from ..particles import ParticleWorld, component_variance, speed_pdf
+from ..particles import component_variance, speed_pdf
 from .static import check_plot_path
 
 __all__ = ["save_speed_plot"]
 
 
-def save_speed_plot(path: str, start: np.ndarray[Any, Any], world: ParticleWorld) -> None:
+def save_speed_plot(
+    path: str, start: np.ndarray[Any, Any], end: np.ndarray[Any, Any], restitution: float, steps: int
+) -> None:
     """Histograms of the speeds at the start and at the end, and Maxwell-Boltzmann at the end's
-    temperature; written atomically (never half-written). ``start`` is the velocities at the start."""
+    temperature; written atomically (never half-written). ``start`` and ``end`` are the
+    velocities ``(n, dim)`` at the start and at the end, ``steps`` apart."""
     check_plot_path(path)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    end = world.velocities
+    dim = int(end.shape[1])
     speeds_end = np.sqrt(np.sum(end**2, axis=1))
     speeds_start = np.sqrt(np.sum(start**2, axis=1))
     top = float(max(speeds_end.max(), speeds_start.max()))
@@ -42,18 +45,18 @@ def save_speed_plot(path: str, start: np.ndarray[Any, Any], world: ParticleWorld
         density=True,
         alpha=0.6,
         color="tab:blue",
-        label=f"speeds after {world.steps_taken} steps",
+        label=f"speeds after {steps} steps",
     )
     axes.plot(
         curve_v,
-        speed_pdf(curve_v, world.dim, variance),
+        speed_pdf(curve_v, dim, variance),
         color="tab:red",
         lw=2,
         label=f"Maxwell-Boltzmann, kT/m = {variance:.3g}",
     )
     # An equal-speed start is a spike that would flatten everything else: clip it, say so.
     ceiling = 1.5 * float(
-        max(np.histogram(speeds_end, bins=bins, density=True)[0].max(), speed_pdf(curve_v, world.dim, variance).max())
+        max(np.histogram(speeds_end, bins=bins, density=True)[0].max(), speed_pdf(curve_v, dim, variance).max())
     )
     if np.histogram(speeds_start, bins=bins, density=True)[0].max() > ceiling:
         axes.set_ylim(0.0, ceiling)
@@ -67,8 +70,8 @@ def save_speed_plot(path: str, start: np.ndarray[Any, Any], world: ParticleWorld
         )
     axes.set_xlabel("speed (radii per time unit)")
     axes.set_ylabel("probability density")
-    shape = "discs" if world.dim == 2 else "spheres"
-    axes.set_title(f"{world.n:,} {shape} in {world.dim}D, e = {world.restitution:g}")
+    shape = "discs" if dim == 2 else "spheres"
+    axes.set_title(f"{len(end):,} {shape} in {dim}D, e = {restitution:g}")
     axes.legend()
     with atomic_path(path) as temporary:
         figure.savefig(temporary, format="png")

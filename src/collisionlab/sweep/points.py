@@ -2,10 +2,9 @@
 
 The only module of the sweep that calls the simulation, and only through the public API:
 :func:`collisionlab.scenario_file.parse_scenario` and :func:`collisionlab.world.simulate` for a
-scenario, :func:`collisionlab.particles.gas_scenario` and
-:meth:`~collisionlab.particles.ParticleWorld.step` for the time-stepped gas, and
-:class:`collisionlab.edmd.observables.ExactGas` and :func:`~collisionlab.edmd.observables.run_exact_gas`
-for the exact (event-driven) gas (``mode = "exact"``), exactly as ``collisionlab run``,
+scenario; for the gas, its scenario (:func:`collisionlab.particles.gas_scenario`, or
+:class:`collisionlab.edmd.observables.ExactGas` with ``mode = "exact"``) on the engine's
+:class:`~collisionlab.engine.world.World`, exactly as ``collisionlab run``,
 ``collisionlab gas`` and ``collisionlab gas --mode exact`` do, so a row equals running its point alone.
 
 Everything here is a pure function of the :class:`Task` (its seed included): nothing depends on
@@ -20,10 +19,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
+from ..engine import WorldParams
+from ..engine.world import World
 from ..errors import InvalidInputError
-from ..particles import ParticleWorld, gas_scenario, warm_up
+from ..particles import gas_scenario, pick_backend
 from ..record import RunRecord
 from ..scenario_file import parse_scenario
 from ..world import simulate
@@ -31,7 +30,6 @@ from .theory import compressibility_from_collisions
 
 if TYPE_CHECKING:  # the exact gas (and numba) load only when a sweep runs it
     from ..edmd.observables import ExactGas
-    from ..edmd.world import EventDrivenWorld
 
 __all__ = [
     "EXACT_GAS_DEFAULTS",
@@ -208,8 +206,11 @@ def _run_scenario(data: Mapping[str, Any]) -> dict[str, Any]:
 
 
 # --- the gas ------------------------------------------------------------------------------------
-def _gas_world(data: Mapping[str, Any], seed: int) -> tuple[ParticleWorld, float, int]:
-    """The world ``collisionlab gas`` builds from these parameters, its ``dt`` and its steps."""
+def _gas_world(data: Mapping[str, Any], seed: int) -> tuple[World, int]:
+    """The world ``collisionlab gas`` builds from these parameters, and its steps."""
+    steps = data["steps"]
+    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+        raise InvalidInputError("steps", "must be a whole number >= 1", got=steps)
     gas = gas_scenario(
         data["n"],
         data["dim"],
@@ -219,47 +220,37 @@ def _gas_world(data: Mapping[str, Any], seed: int) -> tuple[ParticleWorld, float
         step_fraction=data["step_fraction"],
         speeds=data["speeds"],
     )
-    world = gas.world(restitution=data["restitution"], gravity=data["gravity"], backend=data["backend"])
-    steps = data["steps"]
-    if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
-        raise InvalidInputError("steps", "must be a whole number >= 1", got=steps)
-    return world, gas.dt, steps
-
-
-def _max_overlap(world: ParticleWorld) -> float:
-    pairs = world.overlapping_pairs()
-    if len(pairs) == 0:
-        return 0.0
-    x, r = world.positions, world.radii
-    gaps = np.linalg.norm(x[pairs[:, 1]] - x[pairs[:, 0]], axis=1) - r[pairs[:, 0]] - r[pairs[:, 1]]
-    return float(max(0.0, -gaps.min()))
+    compiled = pick_backend(data["backend"]) == "numba"
+    scenario = gas.scenario(steps, data["restitution"], data["gravity"])
+    return World(scenario, WorldParams(compiled=compiled), events=False), steps
 
 
 def _run_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
-    world, dt, steps = _gas_world(data, seed)
-    if world.backend == "numba":
-        warm_up()  # compiling (first task of a worker) is not the point's time
+    world, steps = _gas_world(data, seed)
+    if world.compiled:
+        world.step(0)  # loads the compiled kernels: compiling (a worker's first task) is not the point's time
     energy_start, momentum_start = world.kinetic_energy(), world.momentum()
-    began = time.perf_counter()
-    report = world.step(dt, steps)
-    seconds = time.perf_counter() - began
+    seconds = world.advance(steps)
     energy_end = world.kinetic_energy()
-    radius = float(world.radii[0])
+    collisions, wall_collisions = world.impulses()
+    settings = world.scenario.settings
+    n, dim = len(world.scenario.bodies), world.dims
+    radius = float(world.scenario.bodies.columns().ext[0, 0])
     return {
-        "collisions": report.body_collisions,
-        "wall_collisions": report.wall_collisions,
+        "collisions": collisions,
+        "wall_collisions": wall_collisions,
         "kinetic_energy_start": energy_start,
         "kinetic_energy_end": energy_end,
         "energy_drift": (energy_end - energy_start) / energy_start if energy_start > 0 else 0.0,
-        **_vector("momentum_start", momentum_start),
-        **_vector("momentum_end", world.momentum()),
-        "collision_rate": 2.0 * report.body_collisions / (world.n * dt * steps),
+        **_vector("momentum_start", list(momentum_start)),
+        **_vector("momentum_end", list(world.momentum())),
+        "collision_rate": 2.0 * collisions / (n * settings.dt * steps),
         # Time-stepped: Z from the collision rate (theory.py); the exact gas (mode = "exact",
         # _run_exact_gas) reports the collision virial instead.
         "compressibility": compressibility_from_collisions(
-            report.body_collisions, world.n, world.dim, 2.0 * radius, dt * steps, (energy_start + energy_end) / 2
+            collisions, n, dim, 2.0 * radius, settings.dt * steps, (energy_start + energy_end) / 2
         ),
-        "max_overlap": _max_overlap(world),
+        "max_overlap": world.deepest_overlap(),
         "wall_time": seconds,
     }
 
@@ -282,17 +273,13 @@ def _exact_gas(data: Mapping[str, Any], seed: int) -> ExactGas:
     ).checked()
 
 
-def _momentum(world: EventDrivenWorld) -> list[float]:
-    return [world.mass * float(p) for p in world.velocities.sum(axis=0)]
-
-
 def _run_exact_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
     from ..edmd.observables import run_exact_gas
 
     gas = _exact_gas(data, seed)
-    world = gas.world()  # compiling the loop (first task of a worker) is not the point's time
-    kinetic_start, momentum_start = world.kinetic_energy(), _momentum(world)
-    report = run_exact_gas(gas, world=world)
+    world = World(gas.scenario(), events=False)  # compiling the loop (a worker's first task) is not the point's time
+    kinetic_start, momentum_start = world.kinetic_energy(), world.momentum()
+    report = run_exact_gas(gas, world)
     return {
         "collisions": report["collisions"],
         "wall_collisions": report["wall_collisions"],
@@ -300,8 +287,8 @@ def _run_exact_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
         "kinetic_energy_start": kinetic_start,
         "kinetic_energy_end": world.kinetic_energy(),
         "energy_drift": report["energy_drift"],
-        **_vector("momentum_start", momentum_start),
-        **_vector("momentum_end", _momentum(world)),
+        **_vector("momentum_start", list(momentum_start)),
+        **_vector("momentum_end", list(world.momentum())),
         "kt": report["kT"],
         "collision_rate": report["collision_rate"],
         "compressibility": report["compressibility"],  # the collision virial: exact, no time step

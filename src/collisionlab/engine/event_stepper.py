@@ -1,0 +1,180 @@
+"""The event-driven stepper: hard balls in a box, run event by event on a world's state.
+
+A scenario of balls of one radius and mass in a :class:`~collisionlab.model.Box` (walls or
+periodic) with ``mode = "exact"`` (:attr:`~collisionlab.model.Scenario.event_driven`) steps
+here, on :class:`~collisionlab.edmd.EventDrivenWorld`: neighbour lists fed by cell lists, one
+scheduled event per ball in a calendar, lazy invalidation (F. Smallenburg, Eur. Phys. J. E 45, 22
+(2022)). There is no time step inside: :meth:`EventDrivenStepper.advance` handles every event
+up to the end of the steps asked for, in time order, then brings every ball to that moment, so
+the world's frames are exact at their times. The time of impact of two balls and the contact
+law are the engine's (:mod:`collisionlab.engine.geometry_kernels`); inelastic collapse is
+stopped by the TC model (a collision of a ball that collided less than ``tc`` ago is elastic:
+:mod:`collisionlab.edmd.loop`).
+
+Events come out as the Forward Euler stepper's rows (``step_kernels.EVENT_COLUMNS``), oriented
+as the engine orients pairs (the body given first is A; a wall is A, its normal pointing at the
+ball), so the world records and streams them as any other. The ledger: the collisions' change of
+kinetic energy as measured, beside theory's ``(1 - e^2)/2 mu v_n^2``; no integrator error (exact
+flight) and no push-apart.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from types import ModuleType
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..errors import InvalidInputError
+from ..model import Box
+from . import step_kernels
+from .params import WorldParams
+from .state import BodyArrays, StaticArrays
+
+__all__ = ["EventDrivenStepper", "default_tc"]
+
+FloatArray = NDArray[np.float64]
+
+
+def default_tc(radius: float, velocities: FloatArray, gravity: float, restitution: float, fraction: float) -> float:
+    """The TC model's time when a scenario gives none: 0 for elastic balls without gravity (no
+    collapse can happen); else ``fraction`` of the time a typical ball takes to cross its radius,
+    ``radius / u`` with ``u`` the larger of the root-mean-square speed and ``sqrt(g r)``.
+
+    >>> default_tc(1.0, np.zeros((4, 3)), 0.0, 1.0, 0.01), default_tc(0.5, np.zeros((4, 3)), 2.0, 1.0, 0.01)
+    (0.0, 0.005)
+    """
+    if restitution >= 1.0 and gravity == 0.0:
+        return 0.0
+    rms = math.sqrt(float(np.mean(np.einsum("ij,ij->i", velocities, velocities)))) if len(velocities) else 0.0
+    speed = max(rms, math.sqrt(gravity * radius))
+    return fraction * radius / speed if speed > 0.0 else 0.0
+
+
+class EventDrivenStepper:
+    """Advances ``bodies`` (balls of one radius and mass) in ``box`` event by event; ``statics``
+    are the box's walls as the world lists them (for the overlap check at the start). The
+    ledger of every call since it was made is :attr:`ledger` (``step_kernels.LEDGER_SIZE``)."""
+
+    def __init__(
+        self,
+        bodies: BodyArrays,
+        statics: StaticArrays,
+        dims: int,
+        gravity: FloatArray,
+        params: WorldParams,
+        box: Box,
+        restitution: float,
+        tc: float | None,
+        record_events: bool = True,
+        notify: Callable[[str], None] | None = None,
+    ) -> None:
+        from ..edmd import EventDrivenWorld
+        from ..edmd.compile import is_cached
+
+        self.bodies, self.statics, self.dims, self.params = bodies, statics, dims, params
+        self.record_events = record_events
+        self._origin = np.array(box.low.as_tuple()[:dims])
+        self._periodic = box.boundary == "periodic"
+        self._box = box
+        radius = float(bodies.ext[0, 0])
+        mass = 1.0 / float(bodies.ima[0])
+        g = -float(gravity[1])
+        if tc is None:
+            tc = default_tc(radius, bodies.vel, g, restitution, params.tc_fraction)
+        self.tc = tc
+        if notify is not None and not is_cached():
+            notify("compiling the event-driven kernels (once per machine; about a minute)...")
+        try:
+            self.world = EventDrivenWorld(
+                bodies.pos[:, :dims] - self._origin,
+                bodies.vel[:, :dims],
+                box.sides,
+                radius=radius,
+                mass=mass,
+                restitution=restitution,
+                gravity=g,
+                tc=tc,
+                periodic=self._periodic,
+            )
+        except InvalidInputError as error:
+            raise InvalidInputError(
+                "body" if error.field == "positions" else f"simulation.{error.field}", error.problem, error.got
+            ) from None
+        self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
+        self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
+
+    def advance(self, kernels: ModuleType | None, dt: float, restitution: float, first_step: int, steps: int) -> None:
+        """Handle every event up to the end of step ``first_step + steps`` (time ``(first_step +
+        steps) dt``), bring every ball to that time and copy the state back to the world's
+        arrays. ``kernels`` and ``restitution`` are unused (the balls' own loop, one e)."""
+        blocks: list[FloatArray] = []
+        until = (first_step + steps) * dt
+        if self.record_events:
+            self.world.run(until, lambda block: blocks.append(block.copy()), working=True)
+        else:
+            self.world.run(until)
+        d = self.dims
+        positions, velocities = self.world.state()
+        self.bodies.pos[:, :d] = positions + self._origin
+        self.bodies.vel[:, :d] = velocities
+        self._events = self._rows(np.concatenate(blocks) if blocks else np.zeros((0, 24)), dt, first_step, steps)
+        self._tally()
+
+    def _rows(self, raw: FloatArray, dt: float, first_step: int, steps: int) -> FloatArray:
+        """The loop's event rows (:mod:`collisionlab.edmd.layout`) as the engine's."""
+        n = raw.shape[0]
+        rows = np.zeros((n, step_kernels.EVENT_COLUMNS))
+        if n == 0:
+            return rows
+        d = self.dims
+        a, b = raw[:, 1].astype(np.int64), raw[:, 2].astype(np.int64)
+        # A wall first (its code, -1 - w, is the world's static -1 - w: the walls are its only
+        # statics, in the same order), then bodies in the order given.
+        swap = (b < 0) | ((b >= 0) & (b < a))
+        sign = np.where(swap, -1.0, 1.0)[:, None]
+        rows[:, 0] = step_kernels.EVENT_IMPACT
+        step = np.ceil(raw[:, 0] / dt)
+        rows[:, 1] = np.clip(step, first_step + 1, first_step + steps)
+        rows[:, 2] = raw[:, 0]
+        rows[:, 3] = np.where(swap, b, a)
+        rows[:, 4] = np.where(swap, a, b)
+        rows[:, 5:8] = raw[:, 4:7] * sign
+        rows[:, 8:11] = raw[:, 7:10]
+        rows[:, 8 : 8 + d] += self._origin
+        rows[:, 11] = raw[:, 10]
+        rows[:, 12] = raw[:, 3]
+        rows[:, 13] = raw[:, 11]
+        for target, first, second in ((14, 12, 15), (20, 18, 21)):  # before, after: A's then B's
+            rows[:, target : target + 3] = np.where(
+                swap[:, None], raw[:, second : second + 3], raw[:, first : first + 3]
+            )
+            rows[:, target + 3 : target + 6] = np.where(
+                swap[:, None], raw[:, first : first + 3], raw[:, second : second + 3]
+            )
+        return rows
+
+    def _tally(self) -> None:
+        """The ledger's running totals from the loop's accumulators (``step_kernels``' order)."""
+        from ..edmd import layout
+
+        world, ledger = self.world, self.ledger
+        ledger[1] = world.G[layout.G_KINETIC]
+        ledger[3] = -world.G[layout.G_LOST]
+        ledger[4] = world.G[layout.G_MAX_OVERLAP]
+        ledger[5] = world.K[layout.K_PAIRS]
+        ledger[6] = world.K[layout.K_WALLS]
+
+    def events(self) -> FloatArray:
+        """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
+        return self._events
+
+    def release_events(self) -> None:
+        self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
+
+    def nbytes(self) -> int:
+        """Bytes of every array held: the event loop's, and the world's state."""
+        s = self.statics
+        return int(self.world.nbytes + self.bodies.nbytes() + sum(a.nbytes for a in (s.kind, s.a, s.b, s.e)))
