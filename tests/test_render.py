@@ -207,3 +207,19 @@ def test_no_signed_zero_in_any_output() -> None:
     assert record.ledger.potential_start == 0.0  # -0.0 == 0.0; the sign is what the outputs must hide
     text = render_table(record, explain=True) + render_csv(record) + render_json(record)
     assert not re.search(r"-0(\.0*)?(?![0-9.e])", text)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_worlds_event_blocks_print_as_its_events_do(dim: int) -> None:
+    # The table writer prints a world's events from their columns (EventBlock); replaying the
+    # record prints them from CollisionEvent objects, one by one. The two texts must agree,
+    # line for line: bodies against walls and against each other, signed zeros included.
+    from collisionlab.cli.render import TableWriter
+    from collisionlab.edmd.observables import ExactGas
+    from collisionlab.engine.world import World
+
+    world = World(ExactGas(n=80, dim=dim, fraction=0.3, time=4.0, seed=2).scenario(frames=8))
+    streamed = io.StringIO()
+    record = world.run(every=4, observer=TableWriter(streamed, every=4, quiet=True))
+    assert len(record.events) > 50 and any(event.static for event in record.events)
+    assert streamed.getvalue() == render_table(record, every=4, quiet=True)

@@ -11,6 +11,8 @@ import tempfile
 from collections.abc import Callable, Sequence
 from typing import IO, Any, TextIO
 
+import numpy as np
+
 from ..record import CollisionEvent, EventBlock, Frame, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
@@ -69,6 +71,31 @@ def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
         lines.append(f"    kinetic energy {event.kinetic_energy_before:.4f} J -> {event.kinetic_energy_after:.4f} J")
     lines.append(f"  {label}: {after} m/s")
     return lines
+
+
+def _block_lines(block: EventBlock, dims: int) -> list[tuple[int, list[str]]]:
+    """:func:`_event_lines` of every event of ``block`` (without ``--explain``), the same text,
+    written from the block's columns instead of event objects (a heap of balls makes millions)."""
+    a_ids = block.a.tolist()
+    names_a = [block.static_names[-1 - a] if a < 0 else block.names[a] for a in a_ids]
+    names_b = [block.names[b] for b in block.b.tolist()]
+    velocities = np.column_stack((block.after_a[:, :dims], block.after_b[:, :dims])).tolist()
+
+    def vector(row: list[float]) -> str:  # _vec's text: no signed zero (-0.000 is 0.000)
+        return ("(" + ", ".join(f"{x:.3f}" for x in row) + ")").replace("-0.000", "0.000")
+
+    out = []
+    for step, time, a_id, a, b, row in zip(
+        block.step.tolist(), block.time.tolist(), a_ids, names_a, names_b, velocities, strict=True
+    ):
+        head = f"collision at step {step} (t = {time:.3f} s): "
+        if a_id < 0:
+            lines = [head + f"{b} hits {a}", f"  velocity after: {b} = {vector(row[dims:])} m/s"]
+        else:
+            after = f"{a} = {vector(row[:dims])}, {b} = {vector(row[dims:])}"
+            lines = [head + f"{a} and {b} collide", f"  velocities after: {after} m/s"]
+        out.append((step, lines))
+    return out
 
 
 def _skip_line(skip: SkippedContact) -> str:
@@ -156,8 +183,12 @@ class TableWriter:
 
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         by_step: dict[int, list[str]] = {}
-        for event in events:
-            by_step.setdefault(event.step, []).extend(_event_lines(event, self._dims, self._explain))
+        if isinstance(events, EventBlock) and not self._explain:  # a world's events: from their columns
+            for step, lines in _block_lines(events, self._dims):
+                by_step.setdefault(step, []).extend(lines)
+        else:
+            for event in events:
+                by_step.setdefault(event.step, []).extend(_event_lines(event, self._dims, self._explain))
         if self._explain:
             for skip in skipped:
                 by_step.setdefault(skip.step, []).append(_skip_line(skip))

@@ -119,24 +119,23 @@ def _first_root(c0: float, c1: float, c2: float, limit: float) -> float:
 
 def _ball_ball_root(p2: Any, v2: Any, reach: float, limit: float) -> float:
     """The first ``t`` in ``(0, limit]`` with ``|p + w t| = reach`` for two balls apart
-    (``p``, ``w``: rows 1 minus 0 of ``p2`` and ``v2``), or ``inf``.
+    (``p``, ``w``: rows 1 minus 0 of ``p2`` and ``v2``), or ``inf``: the engine's one time of
+    impact of two balls (:func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`).
 
     >>> p = np.array([[0.0, 0, 0], [3.0, 1, 0]]); w = np.array([[1.0, 0, 0], [0.0, 0, 0]])
     >>> float(_ball_ball_root(p, w, 1.0, 10.0))   # a graze: (3 - t)^2 + 1 = 1 at t = 3 only
     3.0
     """
-    px = p2[1, 0] - p2[0, 0]
-    py = p2[1, 1] - p2[0, 1]
-    pz = p2[1, 2] - p2[0, 2]
-    wx = v2[1, 0] - v2[0, 0]
-    wy = v2[1, 1] - v2[0, 1]
-    wz = v2[1, 2] - v2[0, 2]
-    c2 = wx * wx + wy * wy + wz * wz
-    c1 = 2.0 * (px * wx + py * wy + pz * wz)
-    c0 = px * px + py * py + pz * pz - reach * reach
-    if c1 >= 0.0 or c0 <= 0.0:
-        return math.inf
-    return _first_root(c0, c1, c2, limit)
+    t = gk.time_of_impact_ball_ball(
+        p2[1, 0] - p2[0, 0],
+        p2[1, 1] - p2[0, 1],
+        p2[1, 2] - p2[0, 2],
+        v2[1, 0] - v2[0, 0],
+        v2[1, 1] - v2[0, 1],
+        v2[1, 2] - v2[0, 2],
+        reach * reach,
+    )
+    return t if 0.0 < t <= limit else math.inf  # 0: touching already, which the caller handles
 
 
 def _advance(i: int, t: float, pos: Any, vel: Any, acc: Any, tau: Any, ima: Any, gravity: Any, ledger: Any) -> None:
