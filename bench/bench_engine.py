@@ -98,16 +98,22 @@ def spread(values: list[float], fmt: str = "{:.3g}") -> str:
 
 
 def incline(runs: int, plan: dict[str, tuple[int, int, int]], folder: Path) -> None:
+    """The whole command, with the lab's table (``--quiet``: every collision and the velocity
+    after it) and with JSON (every collision's working, every number in full)."""
     print("1. collisionlab run: spheres and boxes on a tilted plane")
     for mode, (balls, boxes, count) in plan.items():
         path = folder / f"incline-{mode}.toml"
         path.write_text(INCLINE.format(steps=count, mode=mode, balls=balls, boxes=boxes))
-        command = [*CLI, "run", str(path), "--quiet", "--every", str(count), "--format", "json"]
-        command += ["--output", str(folder / "out.json")]
-        timed(command)  # warm-up: the compile cache
-        bodies = balls + boxes
-        rates = [bodies * count / timed(command)[0] for _ in range(runs)]
-        print(f"   {mode:5s} {bodies:5d} bodies, {count:5d} steps: {spread(rates, '{:,.0f}')} body-steps/s (command)")
+        for fmt in ("table", "json"):
+            command = [*CLI, "run", str(path), "--quiet", "--every", str(count), "--format", fmt]
+            command += ["--output", str(folder / f"out.{fmt}")]
+            timed(command)  # warm-up: the compile cache
+            bodies = balls + boxes
+            rates = [bodies * count / timed(command)[0] for _ in range(runs)]
+            print(
+                f"   {mode:5s} {fmt:5s} {bodies:5d} bodies, {count:5d} steps: "
+                f"{spread(rates, '{:,.0f}')} body-steps/s (command)"
+            )
 
 
 def gas_memory(runs: int, folder: Path) -> None:
@@ -130,7 +136,7 @@ def gas_memory(runs: int, folder: Path) -> None:
         arrays.append(int(out.stdout.strip()) / 100_000)
         peaks.append((timed([sys.executable, "-c", probe, str(path)])[1] - statistics.median(bare)) / 100_000)
     print(f"   engine arrays: {spread(arrays, '{:.0f}')} B/body")
-    print(f"   peak RSS over a bare import (includes the scenario's Body objects): {spread(peaks, '{:.0f}')} B/body")
+    print(f"   peak RSS over a bare import (the scenario's arrays included): {spread(peaks, '{:.0f}')} B/body")
 
 
 def start_up(runs: int) -> None:

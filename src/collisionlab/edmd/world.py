@@ -216,11 +216,19 @@ class EventDrivenWorld:
         return float(self.G[L.G_NOW])
 
     def run(
-        self, until: float, sink: EventSink | None = None, max_events: int | None = None, working: bool = False
+        self,
+        until: float,
+        sink: EventSink | None = None,
+        max_events: int | None = None,
+        working: bool = False,
+        bring: bool = True,
     ) -> None:
-        """Handle every event up to time ``until`` (or stop after ``max_events``), then bring
-        every body to that time. ``sink`` receives the events in blocks as they happen, with
-        each one's working (normal, point, normal speed, e, velocities) when ``working``."""
+        """Handle every event up to time ``until`` (or stop after ``max_events``), then (when
+        ``bring``) bring every body to that time. ``sink`` receives the events in blocks as they
+        happen, with each one's working (normal, point, normal speed, e, velocities) when
+        ``working``. Without ``bring`` the bodies stay at the times of their last events, so a
+        run split into many calls is the same, to the last bit, as one call (:meth:`state`
+        reads where they are without moving them)."""
         limit = np.iinfo(np.int64).max if max_events is None else int(max_events)
         columns = L.EVENT_FULL if working else L.EVENT_BRIEF
         buffer = np.zeros((BUFFER_EVENTS if sink is not None else 0, columns))
@@ -246,16 +254,24 @@ class EventDrivenWorld:
                 self._start()
                 continue
             break  # DONE or EVENT_LIMIT
-        synchronize(self.F, self.P, self.time)
+        if bring:
+            synchronize(self.F, self.P, self.time)
 
     def state(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Centres (inside the box also with periodic walls) and velocities at :attr:`time`, in
-        the caller's order: one pass over the bodies."""
-        synchronize(self.F, self.P, self.time)
-        pos = np.empty((self.n, self.dim))
-        vel = np.empty((self.n, self.dim))
-        pos[self.order] = self.F[:, L.X : L.X + self.dim]
-        vel[self.order] = self.F[:, L.V : L.V + self.dim]
+        the caller's order, each body's flight from its own time extended to it, without moving
+        the bodies (what they do next does not depend on when they were looked at)."""
+        d = self.dim
+        ahead = self.time - self.F[:, L.T]
+        x = self.F[:, L.X : L.X + d] + self.F[:, L.V : L.V + d] * ahead[:, None]
+        v = self.F[:, L.V : L.V + d].copy()
+        if self.gravity > 0.0:  # along -y: x += (v_y - g t / 2) t, v_y -= g t, as the loop moves them
+            x[:, 1] -= 0.5 * self.gravity * ahead * ahead
+            v[:, 1] -= self.gravity * ahead
+        pos = np.empty((self.n, d))
+        vel = np.empty((self.n, d))
+        pos[self.order] = x
+        vel[self.order] = v
         if self.periodic:
             pos -= np.floor(pos / self.sides) * self.sides
         return pos, vel

@@ -108,14 +108,16 @@ class EventDrivenStepper:
 
     def advance(self, kernels: ModuleType | None, dt: float, restitution: float, first_step: int, steps: int) -> None:
         """Handle every event up to the end of step ``first_step + steps`` (time ``(first_step +
-        steps) dt``), bring every ball to that time and copy the state back to the world's
-        arrays. ``kernels`` and ``restitution`` are unused (the balls' own loop, one e)."""
+        steps) dt``) and copy where every ball is then to the world's arrays. ``kernels`` and
+        ``restitution`` are unused (the balls' own loop, one e)."""
         blocks: list[FloatArray] = []
         until = (first_step + steps) * dt
+        # The balls are not brought to ``until``: only read there (state()), so a run is the
+        # same to the last bit however its steps were split into calls.
         if self.record_events:
-            self.world.run(until, lambda block: blocks.append(block.copy()), working=True)
+            self.world.run(until, lambda block: blocks.append(block.copy()), working=True, bring=False)
         else:
-            self.world.run(until)
+            self.world.run(until, bring=False)
         d = self.dims
         positions, velocities = self.world.state()
         self.bodies.pos[:, :d] = positions + self._origin
