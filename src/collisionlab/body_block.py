@@ -228,7 +228,6 @@ class Bodies(Sequence[Body]):
             parts.append(tuple(singles))
         self.parts: tuple[tuple[Body, ...] | BodyBlock, ...] = tuple(parts)
         self._starts = np.cumsum([0] + [len(p) for p in self.parts])
-        self._columns: BodyColumns | None = None
 
     @property
     def blocks(self) -> tuple[BodyBlock, ...]:
@@ -284,13 +283,8 @@ class Bodies(Sequence[Body]):
         return out
 
     def columns(self) -> BodyColumns:
-        """The bodies as the engine's arrays (see :class:`BodyColumns`), read-only: made once
-        (the bodies never change) and copied by whoever steps them."""
-        if self._columns is None:
-            self._columns = self._make_columns()
-        return self._columns
-
-    def _make_columns(self) -> BodyColumns:
+        """The bodies as the engine's arrays (see :class:`BodyColumns`), made afresh at each
+        call (a world steps them in place; nothing of this size is kept beside the blocks)."""
         kinds: list[NDArray[np.int64]] = []
         pos: list[FloatArray] = []
         vel: list[FloatArray] = []
@@ -326,8 +320,6 @@ class Bodies(Sequence[Body]):
             eb=np.concatenate(eb) if eb else np.zeros(0),
             mass=masses,
         )
-        for array in vars(columns).values():
-            array.flags.writeable = False
         return columns
 
     def representatives(self) -> list[Body]:

@@ -50,7 +50,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .body_block import BodyBlock
+from .body_block import BodyBlock, BodyColumns
 from .errors import InvalidInputError, OutOfRangeError
 from .validate import non_negative, positive, whole_number
 from .vector import Vector3D
@@ -200,9 +200,10 @@ def check_frames(steps: int, every: int, bodies: int, field: str = "steps") -> N
         )
 
 
-def check_scenario(scenario: Scenario) -> None:
+def check_scenario(scenario: Scenario, columns: BodyColumns | None = None) -> None:
     """Refuse a scenario with a number outside the range above, naming the field as a scenario
-    file does (``simulation.dt``, ``body[0].velocity``, ``static[1].point``)."""
+    file does (``simulation.dt``, ``body[0].velocity``, ``static[1].point``). ``columns``: the
+    bodies as arrays, if the caller has them already."""
     s = scenario.settings
     within(s.dt, "simulation.dt", MIN_DT, MAX_DT, "s")
     within(s.steps, "simulation.steps", 0, MAX_STEPS)
@@ -230,7 +231,7 @@ def check_scenario(scenario: Scenario) -> None:
         if obstacle.restitution is not None:
             within(obstacle.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
     if s.mode == "exact":
-        _check_travel(scenario)
+        _check_travel(scenario, scenario.bodies.columns() if columns is None else columns)
 
 
 def _closing(speeds: Sequence[float]) -> float:
@@ -239,28 +240,27 @@ def _closing(speeds: Sequence[float]) -> float:
     return sum(top)
 
 
-def _smallest_halves(scenario: Scenario) -> Any:
+def _smallest_halves(scenario: Scenario, columns: BodyColumns) -> Any:
     """Each body's smallest half size: its radius, or half its box's shortest edge."""
-    columns = scenario.bodies.columns()
     dims = scenario.dims
     return np.where(columns.kind <= 1, columns.ext[:, 0], columns.ext[:, :dims].min(axis=1))
 
 
-def _reach(scenario: Scenario) -> float:
+def _reach(scenario: Scenario, columns: BodyColumns | None = None) -> float:
     """How far bodies may close in one step in exact mode: ``MAX_TRAVEL_PER_SIZE`` times the
     smallest sum of two bodies' sizes (radius, or half the shortest edge), the distance at which
     time of impact must resolve a touch; a lone body against obstacles, its own size."""
-    sizes = np.sort(_smallest_halves(scenario))[:2]
+    sizes = np.sort(_smallest_halves(scenario, scenario.bodies.columns() if columns is None else columns))[:2]
     return MAX_TRAVEL_PER_SIZE * float(sizes.sum())
 
 
-def _check_travel(scenario: Scenario) -> None:
+def _check_travel(scenario: Scenario, columns: BodyColumns) -> None:
     """Exact mode: two bodies may close by at most ``_reach`` in one step, else time of impact
     cannot resolve the touch (measured: it misses beyond ~1e7 sizes per step)."""
-    velocities = scenario.bodies.columns().vel
+    velocities = columns.vel
     speeds = np.sqrt(np.einsum("ij,ij->i", velocities, velocities))
     travel = _closing(np.sort(speeds)[-2:].tolist()) * scenario.settings.dt
-    if travel > _reach(scenario):
+    if travel > _reach(scenario, columns):
         fastest = int(np.argmax(speeds))
         raise InvalidInputError(
             _body_field(scenario, fastest, "velocity"),

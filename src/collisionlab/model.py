@@ -13,7 +13,7 @@ from typing import Literal
 import numpy as np
 
 from .body import Body, BodyShape, planar
-from .body_block import Bodies, BodyBlock
+from .body_block import Bodies, BodyBlock, BodyColumns
 from .errors import InvalidInputError, UnsupportedPairError
 from .limits import check_scenario
 from .narrowphase import separation
@@ -202,9 +202,10 @@ class Scenario:
                 separation(a.shape, b.shape)
             except UnsupportedPairError as error:
                 raise InvalidInputError(f"{b.name}", f"'{a.name}' and '{b.name}' cannot collide: {error}") from error
-        check_scenario(self)  # every magnitude within the range that can be simulated
+        columns = bodies.columns()  # the bodies as arrays, once for the checks below
+        check_scenario(self, columns)  # every magnitude within the range that can be simulated
         if self.box is not None:
-            self._check_box(self.box)
+            self._check_box(self.box, columns)
 
     def _check_names(self) -> None:
         """Names are printable, not empty, and unique among bodies, obstacles and walls (a
@@ -238,10 +239,9 @@ class Scenario:
                     got=clash,
                 )
 
-    def _check_box(self, box: Box) -> None:
+    def _check_box(self, box: Box, columns: BodyColumns) -> None:
         if box.dims != self.dims:
             raise InvalidInputError("box.region", f"must have {self.dims} numbers per corner, as the bodies")
-        columns = self.bodies.columns()
         axes = slice(0, box.dims)
         low, high = np.array(box.low.as_tuple())[axes], np.array(box.high.as_tuple())[axes]
         if box.boundary == "walls":
@@ -298,15 +298,32 @@ class Scenario:
         Any other exact scenario runs on the general exact stepper."""
         if self.settings.mode != "exact" or self.box is None or self.obstacles:
             return False
-        columns = self.bodies.columns()
+        kinds, halves, masses, own_e = set(), set(), set(), False
+        for part in self.bodies.parts:
+            if isinstance(part, BodyBlock):
+                kinds.add(part.shape)
+                halves.add(part.half)
+                masses.add(part.mass)
+                own_e = own_e or part.restitution is not None
+            else:
+                for body in part:
+                    shape = body.shape
+                    kinds.add(
+                        "circle" if isinstance(shape, Circle) else "sphere" if isinstance(shape, Sphere) else "aabb"
+                    )
+                    halves.add(
+                        (shape.radius,) * 3 if isinstance(shape, (Circle, Sphere)) else shape.half_size.as_tuple()
+                    )
+                    masses.add(body.mass)
+                    own_e = own_e or body.restitution is not None
         g = self.settings.gravity
-        return bool(
-            np.all(columns.kind == columns.kind[0])
-            and columns.kind[0] <= 1  # circles or spheres
-            and np.all(columns.ext == columns.ext[0])
-            and np.all(columns.mass == columns.mass[0])
-            and math.isfinite(float(columns.mass[0]))
-            and np.all(np.isnan(columns.eb))
+        return (
+            len(kinds) == 1
+            and kinds <= {"circle", "sphere"}
+            and len(halves) == 1
+            and len(masses) == 1
+            and math.isfinite(next(iter(masses)))
+            and not own_e
             and g.x == 0.0
             and g.z == 0.0
             and g.y <= 0.0

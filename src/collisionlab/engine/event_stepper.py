@@ -105,11 +105,12 @@ class EventDrivenStepper:
             ) from None
         self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
         self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
+        self._copied = True  # the world's arrays hold the start
 
     def advance(self, kernels: ModuleType | None, dt: float, restitution: float, first_step: int, steps: int) -> None:
         """Handle every event up to the end of step ``first_step + steps`` (time ``(first_step +
-        steps) dt``) and copy where every ball is then to the world's arrays. ``kernels`` and
-        ``restitution`` are unused (the balls' own loop, one e)."""
+        steps) dt``); :meth:`copy_state` then gives the world where the balls are. ``kernels``
+        and ``restitution`` are unused (the balls' own loop, one e)."""
         blocks: list[FloatArray] = []
         until = (first_step + steps) * dt
         # The balls are not brought to ``until``: only read there (state()), so a run is the
@@ -118,12 +119,19 @@ class EventDrivenStepper:
             self.world.run(until, lambda block: blocks.append(block.copy()), working=True, bring=False)
         else:
             self.world.run(until, bring=False)
-        d = self.dims
-        positions, velocities = self.world.state()
-        self.bodies.pos[:, :d] = positions + self._origin
-        self.bodies.vel[:, :d] = velocities
+        self._copied = False
         self._events = self._rows(np.concatenate(blocks) if blocks else np.zeros((0, 24)), dt, first_step, steps)
         self._tally()
+
+    def copy_state(self) -> None:
+        """Copy where every ball is at the end of the last :meth:`advance` to the world's arrays
+        (once: a gas of a million balls is only read when asked)."""
+        if not self._copied:
+            positions, velocities = self.world.state()
+            d = self.dims
+            self.bodies.pos[:, :d] = positions + self._origin
+            self.bodies.vel[:, :d] = velocities
+            self._copied = True
 
     def _rows(self, raw: FloatArray, dt: float, first_step: int, steps: int) -> FloatArray:
         """The loop's event rows (:mod:`collisionlab.edmd.layout`) as the engine's."""

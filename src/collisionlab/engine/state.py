@@ -86,11 +86,8 @@ def static_row(shape: Shape) -> tuple[int, Triple, Triple]:
 def bodies_of(scenario: Scenario) -> BodyArrays:
     """The scenario's moving bodies as arrays, in the order given (a block's straight from its
     arrays: no :class:`~collisionlab.model.Body` is built)."""
-    c = scenario.bodies.columns()  # read-only: the world steps its own copies
-    n = c.kind.shape[0]
-    return BodyArrays(
-        c.kind.copy(), c.pos.copy(), c.vel.copy(), c.ext.copy(), c.ima.copy(), c.eb.copy(), np.arange(n, dtype=np.int64)
-    )
+    c = scenario.bodies.columns()  # fresh arrays: the world steps them in place
+    return BodyArrays(c.kind, c.pos, c.vel, c.ext, c.ima, c.eb, np.arange(c.kind.shape[0], dtype=np.int64))
 
 
 def statics_of(scenario: Scenario) -> StaticArrays:

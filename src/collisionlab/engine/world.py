@@ -19,6 +19,7 @@ scenario says ``allow_initial_overlap``: then the first step resolves them and a
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable
 from typing import Any
@@ -88,7 +89,8 @@ class World:
         self._statics = statics_of(scenario)
         self._names = scenario.bodies.names()
         self._static_names = static_names(scenario)
-        self._mass_array = scenario.bodies.columns().mass
+        with np.errstate(divide="ignore"):
+            self._mass_array = np.where(self._bodies.ima > 0.0, 1.0 / self._bodies.ima, math.inf)
         self._finite_masses = np.where(np.isfinite(self._mass_array), self._mass_array, 0.0)
         #: Whether the stepper keeps the state in its own order (by grid cell; ``ids`` then says
         #: which body each row is), or in the order given (the event-driven stepper's copy).
@@ -331,10 +333,21 @@ class World:
 
     def step(self, steps: int = 1) -> None:
         """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
+        self._steps(steps)
+        self._settle()
+
+    def _steps(self, steps: int) -> None:
+        """The stepping of :meth:`step`, without its bookkeeping (:meth:`_settle`)."""
         if self._exact:
             self._step_exact(steps)
         else:
             self._step_euler(steps)
+
+    def _settle(self) -> None:
+        """Bring the world's arrays up to date (the event-driven stepper copies where its balls
+        are only when asked) and the ledger's end values with them."""
+        if isinstance(self._stepper, EventDrivenStepper):
+            self._stepper.copy_state()
         ledger, masses = self.record.ledger, self._stored_masses()
         ledger.kinetic_end = self.kinetic_energy(masses)
         ledger.potential_end = self.potential_energy(masses)
@@ -428,12 +441,17 @@ class World:
         (``clock``'s)."""
         guard = limits.RangeGuard(self.scenario)
         gains = self.scenario.energy_warning() is not None  # e > 1: speeds grow, look every step
+        # Balls in a box with e <= 1 stay in their box at speeds their energy bounds: the
+        # event-driven stepper then copies its state (O(N)) only at the end, not every chunk.
+        watch = gains or not self.event_driven
         done, chunk, spent = 0, 1, 0.0
         while done < steps:
             count = min(chunk, steps - done)
             started = clock()
             try:
-                self.step(count)
+                self._steps(count)
+                if watch:
+                    self._settle()
             except (InvalidInputError, ArithmeticError) as error:
                 if not limits.is_overflow(error):
                     raise
@@ -441,13 +459,15 @@ class World:
             took = clock() - started
             spent += took
             done += count
-            warning = guard.check_arrays(self.step_index, self.time, self.position_array, self.velocity_array)
-            if warning:
-                self.record.warnings.append(warning)
+            if watch:
+                warning = guard.check_arrays(self.step_index, self.time, self.position_array, self.velocity_array)
+                if warning:
+                    self.record.warnings.append(warning)
             if between is not None:
                 between(done, steps)
             if self.compiled and not gains:
                 chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+        self._settle()
         return spent
 
     def run(
@@ -493,31 +513,38 @@ class World:
         told: int,
     ) -> None:
         observer = self._observer
+        # Balls in a box with e <= 1 stay in the box, their speeds bounded by their energy: the
+        # event-driven stepper's state (O(N)) is then read only for frames (see advance()).
+        watch = self.scenario.energy_warning() is not None or not self.event_driven
         # Steps per call: one for the Python forms; compiled, as many as take about
         # CHUNK_SECONDS, learnt as it goes, so progress and Ctrl-C are never far away.
         chunk = 1
         while self.step_index < total:
             to_frame = every - self.step_index % every
             count = min(to_frame, chunk, total - self.step_index)
+            framing = count == to_frame or self.step_index + count == total
             started = time.perf_counter()
             try:
-                self.step(count)
+                self._steps(count)
+                if watch or framing:
+                    self._settle()
             except (InvalidInputError, ArithmeticError) as error:
                 if not limits.is_overflow(error):
                     raise
                 raise guard.overflowed(self.step_index, error) from None
-            positions, velocities = self.position_array, self.velocity_array  # once, for the guard and the frame
-            warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
-            if warning:
-                self.record.warnings.append(warning)
+            if watch or framing:
+                positions, velocities = self.position_array, self.velocity_array  # for the guard and the frame
+                warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
+                if warning:
+                    self.record.warnings.append(warning)
             if observer is not None:
                 for text in self.record.warnings[told:]:
                     observer.warning(text)
             told = len(self.record.warnings)
-            if self._compiled:
+            if self.compiled:
                 took = time.perf_counter() - started
                 chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
-            if self.step_index % every == 0 or self.step_index == total:
+            if framing:
                 frame = self._frame(positions, velocities)
                 if not self._keep and len(self.record.frames) > 1:
                     self.record.frames[-1] = frame  # the first and the latest only
@@ -527,6 +554,7 @@ class World:
                     observer.frame(frame)
             if progress is not None:
                 progress(self.step_index, total)
+        self._settle()
 
 
 def simulate(scenario: Scenario, every: int = 1, params: WorldParams | None = None) -> RunRecord:

@@ -235,7 +235,7 @@ def _run_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
     collisions, wall_collisions = world.impulses()
     settings = world.scenario.settings
     n, dim = len(world.scenario.bodies), world.dims
-    radius = float(world.scenario.bodies.columns().ext[0, 0])
+    radius = float(data["radius"])
     return {
         "collisions": collisions,
         "wall_collisions": wall_collisions,
