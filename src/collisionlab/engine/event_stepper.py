@@ -167,13 +167,13 @@ class EventDrivenStepper:
         return rows
 
     def _tally(self) -> None:
-        """The ledger's running totals from the loop's accumulators (``step_kernels``' order)."""
+        """The ledger's running totals from the loop's accumulators (``step_kernels``' order; no
+        integrator and no push-apart: the flights are exact and nothing is pushed apart)."""
         from ..edmd import layout
 
         world, ledger = self.world, self.ledger
         ledger[1] = world.G[layout.G_KINETIC]
         ledger[3] = -world.G[layout.G_LOST]
-        ledger[4] = world.G[layout.G_MAX_OVERLAP]
         ledger[5] = world.K[layout.K_PAIRS]
         ledger[6] = world.K[layout.K_WALLS]
 
