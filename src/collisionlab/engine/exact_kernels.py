@@ -452,9 +452,11 @@ def _rest(
     touching: Any,
     rest_speed: float,
     ledger: Any,
-) -> bool:
+) -> int:
     """Make pair ``c`` a resting contact if it is one (phase 2 of the module docstring): returns
-    whether it did."""
+    1 if it did, 2 if it did not but stopped a slow approach or lift-off (the bodies' velocities
+    changed), 0 if it changed nothing (then it returns 0 again while neither body's velocity,
+    acceleration or supports change)."""
     ima_a = ima[a] if a >= 0 else 0.0
     rx = vel[b, 0] - (vel[a, 0] if a >= 0 else 0.0)
     ry = vel[b, 1] - (vel[a, 1] if a >= 0 else 0.0)
@@ -464,16 +466,18 @@ def _rest(
     for k in range(3):
         pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * (nx if k == 0 else ny if k == 1 else nz)
     if abs(vn) > rest_speed or pressing >= 0.0:
-        return False
+        return 0
     radius = _curvature(kind, ext, s_kind, a, b, nx, ny, nz)
     if radius < math.inf:
         tx = rx - nx * vn
         ty = ry - ny * vn
         tz = rz - nz * vn
         if (tx * tx + ty * ty + tz * tz) / radius > -pressing:
-            return False  # too fast to follow the curve: it leaves the surface
+            return 0  # too fast to follow the curve: it leaves the surface
+    kicked = 0
     if vn != 0.0:  # a slow approach or lift-off is stopped (e = 0): resting, not an impact
         _kick(a, b, nx, ny, nz, vn, 0.0, vel, ima, sup, nsup, ledger, False)
+        kicked = 2
     ax = ay = az = 0.0
     inv_a = 0.0
     if a >= 0 and ima_a > 0.0:
@@ -483,7 +487,7 @@ def _rest(
     if ima[b] > 0.0:
         bx, by, bz, inv_b, _ = _response(b, nx, ny, nz, ima, sup, nsup, False)
     if inv_a + inv_b <= 0.0:
-        return False
+        return kicked
     force = -pressing / (inv_a + inv_b)
     if inv_a > 0.0:
         acc[a, 0] += ax * force * ima_a
@@ -508,7 +512,7 @@ def _rest(
         nsup[a] += 1
     rest[c] = 1
     touching[c] = 1
-    return True
+    return 1
 
 
 def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
@@ -516,6 +520,66 @@ def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> N
     for k in range(3):
         acc[i, k] = gravity[k] if ima[i] > 0.0 else 0.0
     nsup[i] = 0
+
+
+def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
+    """The contacts ``idx[:m]`` (in increasing number) in the order
+    :func:`~collisionlab.engine.step_kernels._order_contacts` gives all of them: deepest first,
+    runs of equal depth by geometry; a sort of these alone, so the others cost nothing."""
+    sub = idx[:m]
+    depth = np.empty(m)
+    for u in range(m):
+        depth[u] = -cd[sub[u]]
+    order = sub[np.argsort(depth, kind="mergesort")]
+    spare = np.empty(0, np.int64)
+    s = 0
+    while s < m:
+        t = s + 1
+        while t < m and cd[order[t]] == cd[order[s]]:
+            t += 1
+        if t - s > 1:
+            if spare.shape[0] < t - s:
+                spare = np.empty(max(t - s, 2 * spare.shape[0]), np.int64)
+            _merge_sort_run(pos, ca, cb, order, s, t, spare)
+        s = t
+    return order
+
+
+def _merge_sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any) -> None:
+    """Sort ``order[s:t]`` (contacts of equal depth) by
+    :func:`~collisionlab.engine.step_kernels._contact_cmp`, stably (bottom-up merge sort): the
+    order the insertion sort of ``_order_contacts`` gives, in ``O(k log k)`` for a long run of
+    equal depths (pairs left at the same gap)."""
+    width = 1
+    k = t - s
+    while width < k:
+        lo = 0
+        while lo < k - width:
+            mid = lo + width
+            hi = min(lo + 2 * width, k)
+            i = lo
+            j = mid
+            w = 0
+            while i < mid and j < hi:
+                if sk._contact_cmp(pos, ca, cb, order[s + j], order[s + i]) < 0:
+                    spare[w] = order[s + j]
+                    j += 1
+                else:
+                    spare[w] = order[s + i]
+                    i += 1
+                w += 1
+            while i < mid:
+                spare[w] = order[s + i]
+                i += 1
+                w += 1
+            while j < hi:
+                spare[w] = order[s + j]
+                j += 1
+                w += 1
+            for u in range(w):
+                order[s + lo + u] = spare[u]
+            lo += 2 * width
+        width *= 2
 
 
 # --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
@@ -668,6 +732,9 @@ def run_exact_steps(
     queued = np.zeros(n, np.int8)
     kicked = np.zeros(n, np.int64)
     is_kicked = np.zeros(n, np.int8)
+    changed_at = np.zeros(n, np.int64)
+    near_idx = np.zeros(0, np.int64)
+    seen = np.zeros(0, np.int64)
     g_size = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
     resting_on = g_size > 0.0
     ht = np.zeros(64)
@@ -734,20 +801,38 @@ def run_exact_steps(
                     if sk._contains(touch_keys, touch_count[0], sk._pair_key(ca, cb, ids, n, c)):
                         touching[c] = 1
                 if resting_on:
-                    order = sk._order_contacts(pos, ca, cb, cd, count)
+                    # Only pairs in contact can rest: order those alone. A pair is looked at again
+                    # only once one of its bodies changed since (_rest returns 0 again otherwise).
+                    if near_idx.shape[0] < count:
+                        near_idx = np.zeros(2 * count, np.int64)
+                        seen = np.zeros(2 * count, np.int64)
+                    n_near = 0
                     for c in range(count):
                         if -cd[c] <= contact_margin:
+                            near_idx[n_near] = c
+                            n_near += 1
+                            seen[c] = 0
                             sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
                             normals[c, 0] = sep[1]
                             normals[c, 1] = sep[2]
                             normals[c, 2] = sep[3]
+                    order = _order_subset(pos, ca, cb, cd, near_idx, n_near)
+                    for i in range(n):
+                        changed_at[i] = 0
+                    stamp = 0
                     for _pass in range(n + 1):  # a stack of k bodies settles in k passes
                         changed = False
-                        for u in range(count):
+                        for u in range(n_near):
                             c = order[u]
-                            if rest[c] == 1 or -cd[c] > contact_margin:
+                            if rest[c] == 1:
                                 continue
-                            if _rest(
+                            a = ca[c]
+                            b = cb[c]
+                            if seen[c] > 0 and changed_at[b] < seen[c] and (a < 0 or changed_at[a] < seen[c]):
+                                continue
+                            stamp += 1
+                            seen[c] = stamp
+                            done = _rest(
                                 c,
                                 ca[c],
                                 cb[c],
@@ -766,8 +851,12 @@ def run_exact_steps(
                                 touching,
                                 rest_speed,
                                 ledger,
-                            ):
-                                changed = True
+                            )
+                            if done != 0:
+                                changed_at[b] = stamp
+                                if a >= 0:
+                                    changed_at[a] = stamp
+                                changed = changed or done == 1
                         if not changed:
                             break
                 grown = False
@@ -1052,7 +1141,7 @@ def run_exact_steps(
                                 if other >= 0:
                                     _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
                                 sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                                if sep2[0] <= contact_margin and _rest(
+                                if sep2[0] <= contact_margin and 1 == _rest(
                                     c2,
                                     a2,
                                     b2,
@@ -1135,10 +1224,17 @@ def run_exact_steps(
         # Phase 5: the end of the step.
         for i in range(n):
             _advance(i, dt, pos, vel, acc, tau, ima, gravity, ledger)
+        if near_idx.shape[0] < count:
+            near_idx = np.zeros(2 * count, np.int64)
+            seen = np.zeros(2 * count, np.int64)
+        n_push = 0
         for c in range(count):
             sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
             cd[c] = -sep[0]
-        order = sk._order_contacts(pos, ca, cb, cd, count)
+            if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
+                near_idx[n_push] = c
+                n_push += 1
+        order = _order_subset(pos, ca, cb, cd, near_idx, n_push)
         for _ in range(passes):
             if (
                 sk._push_apart(
