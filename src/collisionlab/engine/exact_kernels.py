@@ -7,7 +7,9 @@ One step of ``dt``, in this fixed order:
 
 1. **Candidates.** The state is sorted by cell (as the Forward Euler stepper does) and every pair
    that can meet before the step ends is listed: pairs closer than ``contact_margin + 2 s``,
-   where ``s = v_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left.
+   where ``s = v_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left
+   (``a_max`` is taken as ``ACCELERATION_HEADROOM |g|``; if phase 2 leaves a body faster or
+   more accelerated than the bounds, the candidates are listed again with the larger ones).
 2. **Resting contacts** (with gravity): a pair in contact (within ``contact_margin``) whose
    normal speed is below ``rest_speed`` and whose accelerations press it together rests: a slow
    approach or lift-off is stopped (no event), and the support cancels the pressing part of the
@@ -68,6 +70,11 @@ TOI_ITERATIONS = 64
 RELAX_IMPULSES = 4096
 #: At most this many support normals are kept per body (a floor and two walls).
 MAX_SUPPORTS = 3
+#: The candidates are listed for accelerations up to this many times ``|g|``: a support passes
+#: the pressing of what rests on it along (a body low in a heap is pushed down the slope by those
+#: above it), so a body's acceleration may exceed ``|g|``; listing for more makes a second listing
+#: (when phase 2 finds a larger one) rare, at the cost of a sweep wider by ``|g| T^2 / 2``.
+ACCELERATION_HEADROOM = 2.0
 #: Counters returned to the world: steps that hit MAX_IMPACTS_PER_STEP, impacts resolved, times
 #: the candidates had to be listed again within a step.
 STATUS_SIZE = 3
@@ -750,7 +757,7 @@ def run_exact_steps(
         touching = np.zeros(0, np.int8)
         while True:  # one pass per listing of the candidates (more than one if a kick outran them)
             remaining = dt - t
-            a_bound = g_size
+            a_bound = ACCELERATION_HEADROOM * g_size
             v_bound = 0.0
             rest = np.zeros(0, np.int8)
             ignored = np.zeros(0, np.int8)
