@@ -29,8 +29,11 @@ One step of ``dt``, in this fixed order:
    carries a version; a kicked body's pairs get new ones): the two bodies are brought to the
    impact's time, the impulse is applied (``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, lab eqs. 12,
    15, 24; ``e = 0`` below ``rest_speed``), then the contacts it touches are settled (sequential
-   impulses through every pair in contact that now approaches: a row of touching balls passes the
-   impact along), and the kicked bodies' pairs are predicted again. A kicked body that rested is
+   impulses through every pair in contact that now approaches fast enough to close its gap to
+   ``TOI_GAP`` before the step ends, its gap along the normal ``d + v_n t + a_n t^2 / 2``
+   reaching it within the ``T`` left: a row of touching balls passes the impact along; a slower
+   approach cannot touch within the step and is left to the predictions and to phase 2 of the
+   next step), and the kicked bodies' pairs are predicted again. A kicked body that rested is
    looked at again (it may lift off); if a kick makes a body faster than the candidates allowed
    for, the step is cut there and the candidates are listed again.
 5. **End of the step**: every body is brought to its end, overlaps left by rounding are pushed
@@ -1071,6 +1074,16 @@ def run_exact_steps(
                             still = _rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5])
                             if vn2 >= -still:
                                 continue
+                            if sep2[0] > gap:
+                                # An approach too slow to close the gap (to TOI_GAP) before the step
+                                # ends is left alone: it cannot touch in this step (the gap along n
+                                # bounds the distance, as in phase 3), and its pair is predicted
+                                # again with the kicked bodies' pairs.
+                                an = 0.0
+                                for k in range(3):
+                                    an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
+                                if _first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
+                                    continue
                             e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
                             e_2 = 0.0 if -vn2 < rest_speed else e2_pair
                             j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
