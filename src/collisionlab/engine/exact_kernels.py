@@ -1161,25 +1161,29 @@ def run_exact_steps(
                                 if other >= 0:
                                     _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
                                 sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                                if sep2[0] <= contact_margin and 1 == _rest(
-                                    c2,
-                                    a2,
-                                    b2,
-                                    sep2[1],
-                                    sep2[2],
-                                    sep2[3],
-                                    kind,
-                                    vel,
-                                    ext,
-                                    ima,
-                                    acc,
-                                    sup,
-                                    nsup,
-                                    s_kind,
-                                    rest,
-                                    touching,
-                                    rest_speed,
-                                    ledger,
+                                if (
+                                    sep2[0] <= contact_margin
+                                    and _rest(
+                                        c2,
+                                        a2,
+                                        b2,
+                                        sep2[1],
+                                        sep2[2],
+                                        sep2[3],
+                                        kind,
+                                        vel,
+                                        ext,
+                                        ima,
+                                        acc,
+                                        sup,
+                                        nsup,
+                                        s_kind,
+                                        rest,
+                                        touching,
+                                        rest_speed,
+                                        ledger,
+                                    )
+                                    == 1
                                 ):
                                     changed = True
                                     for k in range(3):
