@@ -7,7 +7,9 @@ One step of ``dt``, in this fixed order:
 
 1. **Candidates.** The state is sorted by cell (as the Forward Euler stepper does) and every pair
    that can meet before the step ends is listed: pairs closer than ``contact_margin + 2 s``,
-   where ``s = v_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left.
+   where ``s = v_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left
+   (``a_max`` is taken as ``ACCELERATION_HEADROOM |g|``; if phase 2 leaves a body faster or
+   more accelerated than the bounds, the candidates are listed again with the larger ones).
 2. **Resting contacts** (with gravity): a pair in contact (within ``contact_margin``) whose
    normal speed is below ``rest_speed`` and whose accelerations press it together rests: a slow
    approach or lift-off is stopped (no event), and the support cancels the pressing part of the
@@ -27,8 +29,11 @@ One step of ``dt``, in this fixed order:
    carries a version; a kicked body's pairs get new ones): the two bodies are brought to the
    impact's time, the impulse is applied (``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, lab eqs. 12,
    15, 24; ``e = 0`` below ``rest_speed``), then the contacts it touches are settled (sequential
-   impulses through every pair in contact that now approaches: a row of touching balls passes the
-   impact along), and the kicked bodies' pairs are predicted again. A kicked body that rested is
+   impulses through every pair in contact that now approaches fast enough to close its gap to
+   ``TOI_GAP`` before the step ends, its gap along the normal ``d + v_n t + a_n t^2 / 2``
+   reaching it within the ``T`` left: a row of touching balls passes the impact along; a slower
+   approach cannot touch within the step and is left to the predictions and to phase 2 of the
+   next step), and the kicked bodies' pairs are predicted again. A kicked body that rested is
    looked at again (it may lift off); if a kick makes a body faster than the candidates allowed
    for, the step is cut there and the candidates are listed again.
 5. **End of the step**: every body is brought to its end, overlaps left by rounding are pushed
@@ -68,6 +73,11 @@ TOI_ITERATIONS = 64
 RELAX_IMPULSES = 4096
 #: At most this many support normals are kept per body (a floor and two walls).
 MAX_SUPPORTS = 3
+#: The candidates are listed for accelerations up to this many times ``|g|``: a support passes
+#: the pressing of what rests on it along (a body low in a heap is pushed down the slope by those
+#: above it), so a body's acceleration may exceed ``|g|``; listing for more makes a second listing
+#: (when phase 2 finds a larger one) rare, at the cost of a sweep wider by ``|g| T^2 / 2``.
+ACCELERATION_HEADROOM = 2.0
 #: Counters returned to the world: steps that hit MAX_IMPACTS_PER_STEP, impacts resolved, times
 #: the candidates had to be listed again within a step.
 STATUS_SIZE = 3
@@ -451,9 +461,11 @@ def _rest(
     touching: Any,
     rest_speed: float,
     ledger: Any,
-) -> bool:
+) -> int:
     """Make pair ``c`` a resting contact if it is one (phase 2 of the module docstring): returns
-    whether it did."""
+    1 if it did, 2 if it did not but stopped a slow approach or lift-off (the bodies' velocities
+    changed), 0 if it changed nothing (then it returns 0 again while neither body's velocity,
+    acceleration or supports change)."""
     ima_a = ima[a] if a >= 0 else 0.0
     rx = vel[b, 0] - (vel[a, 0] if a >= 0 else 0.0)
     ry = vel[b, 1] - (vel[a, 1] if a >= 0 else 0.0)
@@ -463,16 +475,18 @@ def _rest(
     for k in range(3):
         pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * (nx if k == 0 else ny if k == 1 else nz)
     if abs(vn) > rest_speed or pressing >= 0.0:
-        return False
+        return 0
     radius = _curvature(kind, ext, s_kind, a, b, nx, ny, nz)
     if radius < math.inf:
         tx = rx - nx * vn
         ty = ry - ny * vn
         tz = rz - nz * vn
         if (tx * tx + ty * ty + tz * tz) / radius > -pressing:
-            return False  # too fast to follow the curve: it leaves the surface
+            return 0  # too fast to follow the curve: it leaves the surface
+    kicked = 0
     if vn != 0.0:  # a slow approach or lift-off is stopped (e = 0): resting, not an impact
         _kick(a, b, nx, ny, nz, vn, 0.0, vel, ima, sup, nsup, ledger, False)
+        kicked = 2
     ax = ay = az = 0.0
     inv_a = 0.0
     if a >= 0 and ima_a > 0.0:
@@ -482,7 +496,7 @@ def _rest(
     if ima[b] > 0.0:
         bx, by, bz, inv_b, _ = _response(b, nx, ny, nz, ima, sup, nsup, False)
     if inv_a + inv_b <= 0.0:
-        return False
+        return kicked
     force = -pressing / (inv_a + inv_b)
     if inv_a > 0.0:
         acc[a, 0] += ax * force * ima_a
@@ -507,7 +521,7 @@ def _rest(
         nsup[a] += 1
     rest[c] = 1
     touching[c] = 1
-    return True
+    return 1
 
 
 def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
@@ -515,6 +529,66 @@ def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> N
     for k in range(3):
         acc[i, k] = gravity[k] if ima[i] > 0.0 else 0.0
     nsup[i] = 0
+
+
+def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
+    """The contacts ``idx[:m]`` (in increasing number) in the order
+    :func:`~collisionlab.engine.step_kernels._order_contacts` gives all of them: deepest first,
+    runs of equal depth by geometry; a sort of these alone, so the others cost nothing."""
+    sub = idx[:m]
+    depth = np.empty(m)
+    for u in range(m):
+        depth[u] = -cd[sub[u]]
+    order = sub[np.argsort(depth, kind="mergesort")]
+    spare = np.empty(0, np.int64)
+    s = 0
+    while s < m:
+        t = s + 1
+        while t < m and cd[order[t]] == cd[order[s]]:
+            t += 1
+        if t - s > 1:
+            if spare.shape[0] < t - s:
+                spare = np.empty(max(t - s, 2 * spare.shape[0]), np.int64)
+            _merge_sort_run(pos, ca, cb, order, s, t, spare)
+        s = t
+    return order
+
+
+def _merge_sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any) -> None:
+    """Sort ``order[s:t]`` (contacts of equal depth) by
+    :func:`~collisionlab.engine.step_kernels._contact_cmp`, stably (bottom-up merge sort): the
+    order the insertion sort of ``_order_contacts`` gives, in ``O(k log k)`` for a long run of
+    equal depths (pairs left at the same gap)."""
+    width = 1
+    k = t - s
+    while width < k:
+        lo = 0
+        while lo < k - width:
+            mid = lo + width
+            hi = min(lo + 2 * width, k)
+            i = lo
+            j = mid
+            w = 0
+            while i < mid and j < hi:
+                if sk._contact_cmp(pos, ca, cb, order[s + j], order[s + i]) < 0:
+                    spare[w] = order[s + j]
+                    j += 1
+                else:
+                    spare[w] = order[s + i]
+                    i += 1
+                w += 1
+            while i < mid:
+                spare[w] = order[s + i]
+                i += 1
+                w += 1
+            while j < hi:
+                spare[w] = order[s + j]
+                j += 1
+                w += 1
+            for u in range(w):
+                order[s + lo + u] = spare[u]
+            lo += 2 * width
+        width *= 2
 
 
 # --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
@@ -667,6 +741,9 @@ def run_exact_steps(
     queued = np.zeros(n, np.int8)
     kicked = np.zeros(n, np.int64)
     is_kicked = np.zeros(n, np.int8)
+    changed_at = np.zeros(n, np.int64)
+    near_idx = np.zeros(0, np.int64)
+    seen = np.zeros(0, np.int64)
     g_size = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
     resting_on = g_size > 0.0
     ht = np.zeros(64)
@@ -682,7 +759,7 @@ def run_exact_steps(
         touching = np.zeros(0, np.int8)
         while True:  # one pass per listing of the candidates (more than one if a kick outran them)
             remaining = dt - t
-            a_bound = g_size
+            a_bound = ACCELERATION_HEADROOM * g_size
             v_bound = 0.0
             rest = np.zeros(0, np.int8)
             ignored = np.zeros(0, np.int8)
@@ -733,20 +810,38 @@ def run_exact_steps(
                     if sk._contains(touch_keys, touch_count[0], sk._pair_key(ca, cb, ids, n, c)):
                         touching[c] = 1
                 if resting_on:
-                    order = sk._order_contacts(pos, ca, cb, cd, count)
+                    # Only pairs in contact can rest: order those alone. A pair is looked at again
+                    # only once one of its bodies changed since (_rest returns 0 again otherwise).
+                    if near_idx.shape[0] < count:
+                        near_idx = np.zeros(2 * count, np.int64)
+                        seen = np.zeros(2 * count, np.int64)
+                    n_near = 0
                     for c in range(count):
                         if -cd[c] <= contact_margin:
+                            near_idx[n_near] = c
+                            n_near += 1
+                            seen[c] = 0
                             sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
                             normals[c, 0] = sep[1]
                             normals[c, 1] = sep[2]
                             normals[c, 2] = sep[3]
+                    order = _order_subset(pos, ca, cb, cd, near_idx, n_near)
+                    for i in range(n):
+                        changed_at[i] = 0
+                    stamp = 0
                     for _pass in range(n + 1):  # a stack of k bodies settles in k passes
                         changed = False
-                        for u in range(count):
+                        for u in range(n_near):
                             c = order[u]
-                            if rest[c] == 1 or -cd[c] > contact_margin:
+                            if rest[c] == 1:
                                 continue
-                            if _rest(
+                            a = ca[c]
+                            b = cb[c]
+                            if seen[c] > 0 and changed_at[b] < seen[c] and (a < 0 or changed_at[a] < seen[c]):
+                                continue
+                            stamp += 1
+                            seen[c] = stamp
+                            done = _rest(
                                 c,
                                 ca[c],
                                 cb[c],
@@ -765,8 +860,12 @@ def run_exact_steps(
                                 touching,
                                 rest_speed,
                                 ledger,
-                            ):
-                                changed = True
+                            )
+                            if done != 0:
+                                changed_at[b] = stamp
+                                if a >= 0:
+                                    changed_at[a] = stamp
+                                changed = changed or done == 1
                         if not changed:
                             break
                 grown = False
@@ -974,6 +1073,16 @@ def run_exact_steps(
                             still = _rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5])
                             if vn2 >= -still:
                                 continue
+                            if sep2[0] > gap:
+                                # An approach too slow to close the gap (to TOI_GAP) before the step
+                                # ends is left alone: it cannot touch in this step (the gap along n
+                                # bounds the distance, as in phase 3), and its pair is predicted
+                                # again with the kicked bodies' pairs.
+                                an = 0.0
+                                for k in range(3):
+                                    an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
+                                if _first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
+                                    continue
                             e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
                             e_2 = 0.0 if -vn2 < rest_speed else e2_pair
                             j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
@@ -1051,25 +1160,29 @@ def run_exact_steps(
                                 if other >= 0:
                                     _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
                                 sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                                if sep2[0] <= contact_margin and _rest(
-                                    c2,
-                                    a2,
-                                    b2,
-                                    sep2[1],
-                                    sep2[2],
-                                    sep2[3],
-                                    kind,
-                                    vel,
-                                    ext,
-                                    ima,
-                                    acc,
-                                    sup,
-                                    nsup,
-                                    s_kind,
-                                    rest,
-                                    touching,
-                                    rest_speed,
-                                    ledger,
+                                if (
+                                    sep2[0] <= contact_margin
+                                    and _rest(
+                                        c2,
+                                        a2,
+                                        b2,
+                                        sep2[1],
+                                        sep2[2],
+                                        sep2[3],
+                                        kind,
+                                        vel,
+                                        ext,
+                                        ima,
+                                        acc,
+                                        sup,
+                                        nsup,
+                                        s_kind,
+                                        rest,
+                                        touching,
+                                        rest_speed,
+                                        ledger,
+                                    )
+                                    == 1
                                 ):
                                     changed = True
                                     for k in range(3):
@@ -1134,10 +1247,17 @@ def run_exact_steps(
         # Phase 5: the end of the step.
         for i in range(n):
             _advance(i, dt, pos, vel, acc, tau, ima, gravity, ledger)
+        if near_idx.shape[0] < count:
+            near_idx = np.zeros(2 * count, np.int64)
+            seen = np.zeros(2 * count, np.int64)
+        n_push = 0
         for c in range(count):
             sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
             cd[c] = -sep[0]
-        order = sk._order_contacts(pos, ca, cb, cd, count)
+            if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
+                near_idx[n_push] = c
+                n_push += 1
+        order = _order_subset(pos, ca, cb, cd, near_idx, n_push)
         for _ in range(passes):
             if (
                 sk._push_apart(
