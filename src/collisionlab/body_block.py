@@ -11,14 +11,15 @@ block holds its positions and velocities as arrays and builds a ``Body`` only wh
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Literal, overload
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .body import Body
+from .built_sequence import BuiltSequence
 from .errors import InvalidInputError
 from .shapes import AABB, Circle, Sphere
 from .validate import non_negative, positive, positive_or_inf, printable
@@ -54,7 +55,7 @@ def _rows(value: object, field: str, n: int | None) -> FloatArray:
 
 
 @dataclass(frozen=True, eq=False)
-class BodyBlock(Sequence[Body]):
+class BodyBlock(BuiltSequence[Body]):
     """``len(positions)`` bodies of one ``shape`` (``"circle"``, ``"sphere"`` or ``"aabb"``), all
     of half extent ``half`` (a ball's radius three times; a box's half size, z = 0 for a 2D box),
     one ``mass`` and restitution override; body ``i`` is named ``f"{name}{i}"``.
@@ -114,23 +115,7 @@ class BodyBlock(Sequence[Body]):
     def __len__(self) -> int:
         return int(self.positions.shape[0])
 
-    @overload
-    def __getitem__(self, index: int) -> Body: ...
-
-    @overload
-    def __getitem__(self, index: slice) -> Sequence[Body]: ...
-
-    def __getitem__(self, index: int | slice) -> Body | Sequence[Body]:
-        if isinstance(index, slice):
-            return [self._body(i) for i in range(*index.indices(len(self)))]
-        if not -len(self) <= index < len(self):
-            raise IndexError("body index out of range")
-        return self._body(index % len(self))
-
-    def __iter__(self) -> Iterator[Body]:
-        return (self._body(i) for i in range(len(self)))
-
-    def _body(self, i: int) -> Body:
+    def _item(self, i: int) -> Body:
         centre = Vector3D(*self.positions[i].tolist())
         shape: Circle | Sphere | AABB
         if self.shape == "circle":
@@ -197,7 +182,7 @@ def _kind_of(shape: object) -> int:
 _BLOCK_KIND = {"circle": 0, "sphere": 1}
 
 
-class Bodies(Sequence[Body]):
+class Bodies(BuiltSequence[Body]):
     """A scenario's moving bodies in the order given: single :class:`Body` objects and
     :class:`BodyBlock` s chained into one sequence. Equal to a tuple of the same bodies.
 
@@ -241,18 +226,7 @@ class Bodies(Sequence[Body]):
     def __len__(self) -> int:
         return int(self._starts[-1])
 
-    @overload
-    def __getitem__(self, index: int) -> Body: ...
-
-    @overload
-    def __getitem__(self, index: slice) -> Sequence[Body]: ...
-
-    def __getitem__(self, index: int | slice) -> Body | Sequence[Body]:
-        if isinstance(index, slice):
-            return [self[i] for i in range(*index.indices(len(self)))]
-        if not -len(self) <= index < len(self):
-            raise IndexError("body index out of range")
-        index %= len(self)
+    def _item(self, index: int) -> Body:
         part = int(np.searchsorted(self._starts, index, side="right")) - 1
         return self.parts[part][index - int(self._starts[part])]
 

@@ -7,13 +7,14 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal, Protocol, overload
+from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
+from .built_sequence import BuiltSequence
 from .vector import Vector3D
 
 if TYPE_CHECKING:
@@ -132,7 +133,7 @@ _STATIC_JSON = (
 )
 
 
-class EventBlock(Sequence[CollisionEvent]):
+class EventBlock(BuiltSequence[CollisionEvent]):
     """Collision events as columns of numbers, one row per event, in the order they happened:
     how a world hands over a stretch of its run. ``block[i]`` (and iteration) builds the
     :class:`CollisionEvent`; :meth:`json_lines` writes the JSON form of every event without
@@ -198,26 +199,10 @@ class EventBlock(Sequence[CollisionEvent]):
     def __len__(self) -> int:
         return int(self.step.shape[0])
 
-    @overload
-    def __getitem__(self, index: int) -> CollisionEvent: ...
-
-    @overload
-    def __getitem__(self, index: slice) -> Sequence[CollisionEvent]: ...
-
-    def __getitem__(self, index: int | slice) -> CollisionEvent | Sequence[CollisionEvent]:
-        if isinstance(index, slice):
-            return [self._event(i) for i in range(*index.indices(len(self)))]
-        if not -len(self) <= index < len(self):
-            raise IndexError("event index out of range")
-        return self._event(index % len(self))
-
-    def __iter__(self) -> Iterator[CollisionEvent]:
-        return (self._event(i) for i in range(len(self)))
-
     def _name(self, i: int) -> str:
         return self.static_names[-1 - i] if i < 0 else self.names[i]
 
-    def _event(self, k: int) -> CollisionEvent:
+    def _item(self, k: int) -> CollisionEvent:
         a, b = int(self.a[k]), int(self.b[k])
         names = (self._name(a), self._name(b))
         static = a < 0
