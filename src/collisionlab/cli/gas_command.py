@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import json
-from collections.abc import Callable
 from typing import Any
 
 from .. import limits
@@ -20,7 +19,7 @@ from ..engine.world import World
 from ..errors import InvalidInputError, OutOfRangeError
 from ..particles import BACKENDS, gas_scenario, pick_backend
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
-from .interrupts import Pending, deferred_interrupts
+from .interrupts import between_chunks, deferred_interrupts
 from .progress import ProgressBar
 from .streams import Streams
 
@@ -90,18 +89,6 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     exact.add_argument("--events", metavar="FILE", help="stream every collision to FILE.csv or FILE.jsonl")
     parser.add_argument("--quiet", action="store_true", help="no progress bar and no notes on stderr")
     parser.set_defaults(func=run)
-
-
-def _between(pending: Pending, progress: ProgressBar | None) -> Callable[[int, int], None]:
-    """What happens between two chunks of steps: Ctrl-C is looked for (a compiled chunk cannot be
-    interrupted, and lasts a fraction of a second) and the bar moves."""
-
-    def between(done: int, total: int) -> None:
-        pending.check()
-        if progress is not None:
-            progress(done, total)
-
-    return between
 
 
 def _table(report: dict[str, Any]) -> list[str]:
@@ -193,7 +180,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     interactive = bool(streams.interactive) and notes
     try:
         with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the loop
-            between = _between(pending, bar if interactive else None)
+            between = between_chunks(pending, bar if interactive else None)
             if args.events is not None:
                 with event_file(args.events) as sink:
                     world.listen(sink)
@@ -246,7 +233,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     bar = ProgressBar(streams, label="gas steps")
     try:
         with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the kernels
-            seconds = world.advance(steps, _between(pending, bar if streams.interactive and notes else None))
+            seconds = world.advance(steps, between_chunks(pending, bar if streams.interactive and notes else None))
     except OutOfRangeError as err:
         streams.err(f"{_PROG}: {err}")
         return 65

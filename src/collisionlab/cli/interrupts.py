@@ -6,10 +6,10 @@ from __future__ import annotations
 
 import contextlib
 import signal
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from types import FrameType
 
-__all__ = ["Pending", "Stopped", "deferred_interrupts", "stop_on_signals"]
+__all__ = ["Pending", "Stopped", "between_chunks", "deferred_interrupts", "stop_on_signals"]
 
 #: The signals handled as Ctrl-C, where the platform has them.
 _SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
@@ -81,3 +81,16 @@ def deferred_interrupts() -> Iterator[Pending]:
     pending = Pending()
     with _handlers((signal.SIGINT, *_SIGNALS), pending.note):
         yield pending
+    pending.check()  # one that came after the caller's last look still stops the program
+
+
+def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None = None) -> Callable[[int, int], None]:
+    """What runs between two chunks of compiled steps: a deferred signal is raised (a chunk lasts
+    a fraction of a second, so the program stops within a second) and ``progress`` is told."""
+
+    def between(done: int, total: int) -> None:
+        pending.check()
+        if progress is not None:
+            progress(done, total)
+
+    return between

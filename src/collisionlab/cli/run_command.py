@@ -18,6 +18,7 @@ from ..record import RunRecord
 from ..scenario_file import load_scenario
 from ..validate import whole_number
 from ..world import World
+from .interrupts import between_chunks, deferred_interrupts
 from .progress import ProgressBar
 from .render import writer_for
 from .streams import Streams
@@ -185,7 +186,11 @@ def execute(
             try:
                 # Only pictures need the whole record; the output is written as the run goes.
                 world = World(scenario, notify=streams.err)
-                record = world.run(every=args.every, progress=bar, observer=writer, keep=pictures)
+                # A signal is looked at between chunks of steps: raised inside a compiled call it
+                # would surface as "SystemError: CPUDispatcher returned a result with an exception set".
+                with deferred_interrupts() as pending:
+                    progress = between_chunks(pending, bar)
+                    record = world.run(every=args.every, progress=progress, observer=writer, keep=pictures)
             except OutOfRangeError as error:
                 raise error.within(sources[index]) if sources else error from None
             finally:
