@@ -613,3 +613,23 @@ def test_a_control_character_typed_in_an_argument_is_escaped_in_the_error_line(t
         assert len(errors) == 1, result.err
         shown = result.err.replace("\n", "")  # (the line ends themselves)
         assert not any(c in shown for c in word if not c.isprintable())
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run", "head-on", "--steps", "9" * 5000],  # argparse echoed the whole value
+        ["run", "head-on", "--mode", "x" * 5000],
+        ["run", "x" * 5000],  # "File name too long", naming the whole name
+        ["run", "head-on", "--output", "/nowhere/" + "o" * 5000],
+        ["gas", "--n", "v" * 5000],
+    ],
+    ids=["steps", "mode", "file", "output", "gas"],
+)
+def test_a_long_value_typed_on_the_command_line_is_shortened_in_the_error_line(argv: list[str]) -> None:
+    # The README's policy: values repeated in a message are shortened. A command-line argument
+    # can be 128 kB: each error line is cut in the middle, keeping its start and its end.
+    result = run_cli(argv)
+    assert result.status in (1, 2)
+    lines = [line for line in result.err.splitlines() if not line.startswith(("usage:", " "))]
+    assert len(lines) == 1 and len(lines[0]) <= 400 and "..." in lines[0], result.err
