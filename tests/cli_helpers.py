@@ -159,3 +159,16 @@ def on_a_terminal(argv: list[str], cwd: Path, stdout_too: bool = True) -> Iterat
             process.kill()
             process.wait()
         os.close(master)
+
+
+def wait_for_cpu_seconds(pid: int, seconds: float, timeout: float = 180.0) -> None:
+    """Until the process has used ``seconds`` of CPU (imports and kernels loaded: stepping);
+    bounded by ``timeout`` (wall clock, generous for a loaded machine) so a hang fails."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        if (int(fields[11]) + int(fields[12])) / ticks >= seconds:
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"the process did not reach {seconds} s of CPU within {timeout} s")

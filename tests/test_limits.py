@@ -10,9 +10,11 @@ from pathlib import Path
 import pytest
 
 from collisionlab import InvalidInputError, Plane, Sphere
+from collisionlab.edmd.observables import ExactGas, run_exact_gas
 from collisionlab.errors import OutOfRangeError
 from collisionlab.limits import MAX_BODY_STEPS, MAX_RESTITUTION, MAX_RUN_SPEED, MAX_STEPS, MAX_TRAVEL_PER_SIZE
 from collisionlab.model import Body, Obstacle, Scenario, Settings
+from collisionlab.particles.scenarios import gas_scenario
 from collisionlab.world import simulate
 from tests.cli_helpers import run_cli
 
@@ -149,3 +151,44 @@ def test_json_output_is_valid_json_at_the_edge_of_the_range() -> None:
 
     text = render_json(record)
     json.loads(text, parse_constant=lambda name: pytest.fail(f"{name} in the JSON"))
+
+
+# --- the many-body gas (issue 11, the audit) ----------------------------------------------------
+@pytest.mark.parametrize(
+    ("changes", "field", "words"),
+    [
+        ({"n": 10**20}, "n", "at most"),  # ran for minutes before any message
+        ({"time": 1e308}, "time", "at most"),  # ran for ever (and ignored Ctrl-C)
+        ({"time": 5e-324}, "time", "at least"),  # Infinity in the JSON (momentum over the time)
+        ({"fraction": 1e-20}, "fraction", "at least"),  # ValueError: negative dimensions
+        ({"seed": -1}, "seed", ">= 0"),  # numpy's ValueError
+    ],
+)
+def test_the_exact_gas_refuses_what_cannot_finish_or_fit(changes: dict[str, float], field: str, words: str) -> None:
+    with pytest.raises(InvalidInputError) as caught:
+        ExactGas(**{"n": 10, "time": 1.0, **changes}).checked()  # type: ignore[arg-type]
+    assert caught.value.field == field and words in str(caught.value)
+
+
+def test_the_gas_refuses_more_balls_than_fit() -> None:
+    # collisionlab gas --n 99999999999999999999 ended in "unexpected error: ValueError: array is too big".
+    with pytest.raises(InvalidInputError, match="at most 1e\\+07") as caught:
+        gas_scenario(10**20)
+    assert caught.value.field == "n"
+    assert gas_scenario(10, 2).velocities.shape == (10, 2)
+
+
+def test_an_exact_gas_whose_speeds_explode_stops_out_of_range_not_spinning_for_ever() -> None:
+    # e = 10: speeds grow tenfold at each collision until a ball crosses its neighbour-list shell
+    # within the resolution of the time; the compiled loop then spun at one instant for ever. The
+    # run now stops with the library's error. ``between`` counts the looks at the run (a bound on
+    # events, not on time): without the guard the run would go on past the bound.
+    looks: list[None] = []
+
+    def between() -> None:
+        looks.append(None)
+        assert len(looks) < 200_000, "the run went on"
+
+    with pytest.raises(OutOfRangeError, match="too large to simulate") as caught:
+        run_exact_gas(ExactGas(n=10, dim=2, time=100.0, restitution=10.0), between=between)
+    assert str(caught.value).startswith("the exact gas at t = ")

@@ -236,12 +236,14 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     if gas.restitution > 1.0:
         streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
     try:
-        if args.events is not None:
-            with event_file(args.events) as sink:
-                report = run_exact_gas(gas, sink, world)
-            report["events_file"] = args.events
-        else:
-            report = run_exact_gas(gas, world=world)
+        # The compiled loop cannot be interrupted: Ctrl-C is noted, and looked at between chunks.
+        with deferred_interrupts() as pending:
+            if args.events is not None:
+                with event_file(args.events) as sink:
+                    report = run_exact_gas(gas, sink, world, between=pending.check)
+                report["events_file"] = args.events
+            else:
+                report = run_exact_gas(gas, world=world, between=pending.check)
     except OSError as err:
         streams.err(f"{_PROG}: --events: cannot write {args.events}: {err.strerror or err}")
         return 1

@@ -15,19 +15,31 @@ routes differ by a surface term of order ``sigma / L``. ``kT = 2 E_kin / (d N)``
 
 from __future__ import annotations
 
+import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .. import limits
-from ..errors import InvalidInputError
+from ..errors import InvalidInputError, OutOfRangeError
 from ..validate import non_negative, positive, whole_number
+from . import layout as L
 from .start import box_side, gaussian_velocities, lattice
 from .theory import enskog_collision_rate, ideal_compressibility
 from .world import EventDrivenWorld, EventSink
 
 __all__ = ["BOUNDARIES", "DEFAULT_TC", "ExactGas", "measure", "run_exact_gas"]
 
+#: Events handled between two looks at the run (an interrupt, the speeds): a fraction of a second
+#: at the 0.3-0.9 M collisions per second of bench/README.md.
+CHUNK_EVENTS = 1 << 16
+#: The same when e > 1 (each collision adds energy), so that speeds cannot overflow in between.
+GROWING_CHUNK_EVENTS = 32
+#: Events at one instant after which a run is stopped: time no longer advances (see _Guard).
+STALL_EVENTS = CHUNK_EVENTS
 #: ``collisionlab gas --boundary``: hard walls, or a periodic box.
 BOUNDARIES: tuple[str, ...] = ("walls", "periodic")
 #: Time units (radius 1, mass 1, kT 1: a typical ball moves 0.01 radius in it). The TC model's
@@ -56,11 +68,11 @@ class ExactGas:
 
     def checked(self) -> ExactGas:
         """The same settings, validated (:class:`InvalidInputError` names the field)."""
-        n = whole_number(self.n, "n")
+        n = limits.gas_balls(self.n, "n")
         dim = whole_number(self.dim, "dim")
         if dim not in (2, 3):
             raise InvalidInputError("dim", "must be 2 or 3", got=self.dim)
-        fraction = positive(self.fraction, "fraction")
+        fraction = limits.within(positive(self.fraction, "fraction"), "fraction", limits.MIN_GAS_FRACTION, math.inf)
         if fraction >= (0.9069 if dim == 2 else 0.7405):
             raise InvalidInputError(
                 "fraction", "must be below close packing (0.9069 in 2D, 0.7405 in 3D)", got=fraction
@@ -78,8 +90,8 @@ class ExactGas:
             dim=dim,
             fraction=fraction,
             boundary=self.boundary,
-            time=positive(self.time, "time"),
-            seed=int(self.seed),
+            time=limits.gas_time(self.time, "time"),
+            seed=whole_number(self.seed, "seed", minimum=0),
             restitution=restitution,
             gravity=gravity,
             tc=non_negative(tc, "tc"),
@@ -141,16 +153,59 @@ def measure(world: EventDrivenWorld, energy_start: float, seconds: float) -> dic
     return report
 
 
+class _Guard:
+    """What the run calls between chunks of events: the caller's ``between`` (e.g. a look for
+    Ctrl-C), then two checks that end a run which cannot go on, with OutOfRangeError: speeds
+    beyond ``limits.MAX_GAS_SPEED`` (with e > 1 every collision adds energy), and time that no
+    longer advances (``STALL_EVENTS`` events at one instant: balls so fast that they cross their
+    neighbour-list shell within the resolution of the time, or an inelastic collapse when
+    ``tc = 0``; the loop would spin there for ever). Both read the state as stored (each ball at
+    its own time), not moved to the present, so the run stays the same to the last bit."""
+
+    def __init__(self, world: EventDrivenWorld, between: Callable[[], None] | None) -> None:
+        self.world, self.between = world, between
+        self.time, self.events = world.time, world.tally().events
+
+    def __call__(self) -> None:
+        if self.between is not None:
+            self.between()
+        world = self.world
+        fastest = float(np.abs(world.F[:, L.V : L.V + world.dim]).max())
+        if not fastest <= limits.MAX_GAS_SPEED:  # (NaN too)
+            raise OutOfRangeError(
+                f"the exact gas at t = {world.time:.6g}: speeds grew beyond {limits.MAX_GAS_SPEED:g} "
+                f"(restitution {world.restitution:g} > 1 adds energy at every collision): too large to simulate"
+            )
+        events = world.tally().events
+        if world.time > self.time:
+            self.time, self.events = world.time, events
+        elif events - self.events >= STALL_EVENTS:
+            raise OutOfRangeError(
+                f"the exact gas at t = {world.time:.6g}: time stopped advancing ({events - self.events:,} events "
+                f"at one instant; speeds up to {fastest:.3g}: too fast for the resolution of the time, or an "
+                "inelastic collapse with tc = 0): too large to simulate"
+            )
+
+
 def run_exact_gas(
-    gas: ExactGas, sink: EventSink | None = None, world: EventDrivenWorld | None = None
+    gas: ExactGas,
+    sink: EventSink | None = None,
+    world: EventDrivenWorld | None = None,
+    between: Callable[[], None] | None = None,
 ) -> dict[str, Any]:
     """Run ``gas`` (built now unless ``world``, fresh from ``gas.world()``, is given) for
-    ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``."""
+    ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``. ``between`` is called
+    every :data:`CHUNK_EVENTS` events or so (a fraction of a second): it may raise to stop the
+    run (the command line's Ctrl-C). A run whose speeds pass ``limits.MAX_GAS_SPEED``, or whose
+    time stops advancing, stops with :class:`~collisionlab.errors.OutOfRangeError`."""
     gas = gas.checked()
     world = gas.world() if world is None else world
     energy_start = world.kinetic_energy() + world.potential_energy()
     began = time.perf_counter()
-    world.run(gas.time, sink)
+    # With e > 1 a collision can multiply a speed by up to 2 + e: GROWING_CHUNK_EVENTS of them
+    # take a speed within the range no further than 1e100 * 12^32 ~ 1e135 (its square is finite).
+    every = CHUNK_EVENTS if gas.restitution <= 1.0 else GROWING_CHUNK_EVENTS
+    world.run(gas.time, sink, between=_Guard(world, between), every=every)
     seconds = time.perf_counter() - began
     report: dict[str, Any] = {
         "n": gas.n,

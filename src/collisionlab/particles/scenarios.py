@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import limits
 from ..errors import InvalidInputError
 from ..validate import positive, whole_number
 from .world import ParticleWorld
@@ -88,7 +89,7 @@ def gas_scenario(
     >>> bool(abs(np.sqrt((gas.velocities**2).sum(1).mean()) * gas.dt - 0.1) < 1e-12)
     True
     """
-    n = whole_number(n, "n")
+    n = limits.gas_balls(n, "n")
     dim = whole_number(dim, "dim")
     if dim not in (2, 3):
         raise InvalidInputError("dim", "must be 2 or 3", got=dim)
