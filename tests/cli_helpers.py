@@ -71,8 +71,9 @@ def _check_json_output(argv: list[str], result: Result) -> None:
     if formats[-1:] != ["json"]:
         return
     name = "gas" if argv[0] == "gas" else "run"
-    if "--output" in argv:
-        check(name, json.loads(Path(argv[argv.index("--output") + 1]).read_text(encoding="utf-8")))
+    outputs = [argv[i + 1] for i in range(len(argv) - 1) if argv[i] == "--output"]
+    if outputs:  # argparse keeps the last one given (found by the fuzz suite: '--output "" --output o.txt')
+        check(name, json.loads(Path(outputs[-1]).read_text(encoding="utf-8")))
     else:
         check(name, json.loads(result.out))
 

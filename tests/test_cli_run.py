@@ -7,6 +7,7 @@ values worked by hand, the options, exit statuses, atomic ``--output`` and the r
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import os
 import signal
@@ -427,6 +428,15 @@ def test_an_empty_output_name_is_a_usage_error_not_ignored(monkeypatch: pytest.M
     result = run_cli(["demo", "spheres", "--output", ""])
     assert result.status == 2 and result.out == ""
     assert result.err.startswith("collisionlab: --output: ") and "empty" in result.err
+
+
+def test_of_several_outputs_the_last_counts(tmp_path: Path) -> None:
+    # argparse keeps the last --output: the run writes there (the fuzz suite's helper checked
+    # the first one's JSON, '' or a missing folder, and failed on a run that had succeeded).
+    target = tmp_path / "o.json"
+    result = run_cli(["run", "head-on", "--output", "", "--format", "json", "--output", str(target)])
+    assert result.status == 0 and result.out == ""
+    assert json.loads(target.read_text())["title"] and files_in(tmp_path) == ["o.json"]
 
 
 def test_a_failed_write_names_the_users_path_not_the_temporary_file(
