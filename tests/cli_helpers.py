@@ -71,8 +71,9 @@ def _check_json_output(argv: list[str], result: Result) -> None:
     if formats[-1:] != ["json"]:
         return
     name = "gas" if argv[0] == "gas" else "run"
-    if "--output" in argv:
-        check(name, json.loads(Path(argv[argv.index("--output") + 1]).read_text(encoding="utf-8")))
+    outputs = [argv[i + 1] for i in range(len(argv) - 1) if argv[i] == "--output"]
+    if outputs:  # argparse keeps the last one given (found by the fuzz suite: '--output "" --output o.txt')
+        check(name, json.loads(Path(outputs[-1]).read_text(encoding="utf-8")))
     else:
         check(name, json.loads(result.out))
 
@@ -159,3 +160,16 @@ def on_a_terminal(argv: list[str], cwd: Path, stdout_too: bool = True) -> Iterat
             process.kill()
             process.wait()
         os.close(master)
+
+
+def wait_for_cpu_seconds(pid: int, seconds: float, timeout: float = 180.0) -> None:
+    """Until the process has used ``seconds`` of CPU (imports and kernels loaded: stepping);
+    bounded by ``timeout`` (wall clock, generous for a loaded machine) so a hang fails."""
+    ticks = os.sysconf("SC_CLK_TCK")
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+        if (int(fields[11]) + int(fields[12])) / ticks >= seconds:
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"the process did not reach {seconds} s of CPU within {timeout} s")

@@ -7,7 +7,8 @@ came out:
   whose numbers span the whole float range) through ``parse_scenario``, a short run and every
   output format;
 * ``file-bytes``: raw bytes (example files mutated byte by byte, and random bytes) run as a file;
-* ``command-line``: words of the command line's vocabulary and random text;
+* ``command-line``: words of the command line's vocabulary (long values and paths among them),
+  random text, and the exact gas's flags at and beyond their range;
 * ``menu-answers``: a case and answers, good and bad, typed into the menu;
 * ``public-api``: the library's functions and constructors with any values.
 
@@ -328,12 +329,24 @@ _WORDS = ["run", "demo", "menu", "gas", "spheres", "head-on", "stack", "nope", "
           "table", "3", "0", "-1", "0.01", "1e308", "1e-300", "nan", "inf", "x", "", "--help", "--bogus",
           "--output", str(_FOLDER / "out.txt"), str(_FOLDER), str(_FOLDER / "missing" / "o.txt"), "--n",
           "--dim", "--seed", "--gravity", "--speeds", "equal", "--backend", "numpy", "99999999999999999999",
-          str(EXAMPLES / "bouncing-ball.toml"), str(EXAMPLES / "none.toml"), "/dev/zero", "-"]  # fmt: skip
+          str(EXAMPLES / "bouncing-ball.toml"), str(EXAMPLES / "none.toml"), "/dev/zero", "-", "--time",
+          "--fraction", "--tc", "--boundary", "periodic", "--events", str(_FOLDER / "ev.csv"), "--mode", "exact",
+          "5e-324", "9" * 400, "x" * 400, str(_FOLDER / ("p" * 300))]  # fmt: skip
 _OPTIONS = st.sampled_from(
     [["--steps", "5"], ["--dt", "0.05"], ["--dt", "1e-9"], ["--dt", "1e6"], ["--mode", "exact"], ["--mode", "euler"],
      ["--restitution", "0.5"], ["--restitution", "10"], ["--restitution", "1e308"], ["--every", "2"],
      ["--format", "json"], ["--format", "csv"], ["--quiet"], ["--explain"], ["--output", str(_FOLDER / "o.txt")],
-     ["--output", ""], ["--steps", "2000001"], ["--steps", "1e23"]]
+     ["--output", ""], ["--steps", "2000001"], ["--steps", "1e23"], ["--steps", "9" * 400],
+     ["--output", str(_FOLDER / ("p" * 300) / "o.txt")], ["--output", str(_FOLDER / "missing" / ("o" * 400))]]
+)  # fmt: skip
+#: The exact gas (``gas --mode exact --n 60 --time 1``): its own flags, at and beyond their range.
+_EXACT_GAS_OPTIONS = st.sampled_from(
+    [["--time", "5e-324"], ["--time", "1e308"], ["--time", "0.5"], ["--fraction", "1e-20"], ["--fraction", "0.5"],
+     ["--fraction", "0.8"], ["--tc", "1e308"], ["--tc", "0"], ["--restitution", "10"], ["--restitution", "0.5"],
+     ["--gravity", "10"], ["--gravity", "1e300"], ["--boundary", "periodic"], ["--dim", "3"], ["--n", "0"],
+     ["--n", "99999999999999999999"], ["--seed", "-1"], ["--seed", "7"], ["--format", "json"], ["--quiet"],
+     ["--events", str(_FOLDER / "ev.csv")], ["--events", str(_FOLDER / "ev.jsonl")], ["--events", "ev.txt"],
+     ["--events", str(_FOLDER / "missing" / "e.csv")], ["--plot", str(_FOLDER / "g.png")]]
 )  # fmt: skip
 _STRUCTURED = st.tuples(
     st.one_of(
@@ -345,14 +358,21 @@ _STRUCTURED = st.tuples(
     ),
     st.lists(_OPTIONS, max_size=4),
 ).map(lambda parts: [*parts[0], *[word for option in parts[1] for word in option]])
+_EXACT_GAS = st.lists(_EXACT_GAS_OPTIONS, max_size=4).map(
+    lambda options: ["gas", "--mode", "exact", *[word for option in options for word in option]]
+)
 COMMAND_LINES = _weighted(
-    _STRUCTURED, st.lists(_weighted(st.sampled_from(_WORDS), st.text(max_size=5), 3), max_size=7), 2
+    _weighted(_STRUCTURED, _EXACT_GAS, 2),  # the exact gas a third of the time
+    st.lists(_weighted(st.sampled_from(_WORDS), st.text(max_size=5), 3), max_size=7),
+    2,
 )
 
 
 def probe_command_line(argv: list[str]) -> Outcome:
     argv = list(argv)
-    if "gas" in argv:  # keep the gas small and short
+    if argv[:1] == ["gas"]:  # a small, short gas, unless the words say otherwise (the last one counts)
+        argv[1:1] = ["--n", "60", "--steps", "5", "--time", "1"]
+    elif "gas" in argv:
         argv += ["--n", "60", "--steps", "5"]
     elif "--steps" not in argv:
         argv += ["--steps", "3"]

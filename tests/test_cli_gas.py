@@ -4,9 +4,7 @@ from __future__ import annotations
 
 import io
 import json
-import os
 import signal
-import time
 from pathlib import Path
 
 import pytest
@@ -18,7 +16,7 @@ from collisionlab.cli.streams import Streams
 from collisionlab.engine import WorldParams
 from collisionlab.engine.world import CHUNK_SECONDS, World
 from collisionlab.particles import gas_scenario
-from tests.cli_helpers import finish, on_a_terminal, read_until
+from tests.cli_helpers import finish, on_a_terminal, read_until, wait_for_cpu_seconds
 from tests.schema_check import check
 
 
@@ -115,11 +113,13 @@ def test_restitution_above_one_is_allowed_with_a_warning_and_adds_energy() -> No
         (["--gravity", "nan"], "--gravity", "finite"),
         (["--restitution", "1e308"], "--restitution", "at most"),
         (["--steps", "100000000000000000000000"], "--steps", "at most"),
+        # issue 11 (the audit): "unexpected error: ValueError: array is too big (please report this)"
+        (["--n", "99999999999999999999"], "--n", "at most"),
     ],
 )
 def test_magnitudes_out_of_range_are_refused_naming_the_flag(argv: list[str], flag: str, words: str) -> None:
     # gas --gravity 1e300 used to exit 0 with Infinity in its JSON; 1e23 steps ended in OverflowError.
-    status, out, err = run([*argv, "--n", "100", "--format", "json"])
+    status, out, err = run(["--n", "100", *argv, "--format", "json"])
     assert status == 2 and out == ""
     assert err.startswith(f"collisionlab gas: {flag}: ") and words in err
 
@@ -185,7 +185,7 @@ def test_ctrl_c_during_gas_exits_130_in_every_mode(tmp_path: Path, backend: str,
     with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
         assert process.stderr is not None
         if quiet:
-            _wait_for_cpu_seconds(process.pid, 4.0)
+            wait_for_cpu_seconds(process.pid, 4.0)
         else:
             read_until(process.stderr.fileno(), b"gas steps [", timeout=60)
         process.send_signal(signal.SIGINT)
@@ -193,15 +193,3 @@ def test_ctrl_c_during_gas_exits_130_in_every_mode(tmp_path: Path, backend: str,
     assert status == 130, err
     assert err.decode().rstrip().endswith("collisionlab: interrupted")
     assert b"Error" not in err
-
-
-def _wait_for_cpu_seconds(pid: int, seconds: float, timeout: float = 60.0) -> None:
-    """Until the process has used ``seconds`` of CPU (imports and kernels loaded: stepping)."""
-    ticks = os.sysconf("SC_CLK_TCK")
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-        if (int(fields[11]) + int(fields[12])) / ticks >= seconds:
-            return
-        time.sleep(0.1)
-    raise AssertionError(f"the process did not reach {seconds} s of CPU within {timeout} s")

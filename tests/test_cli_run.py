@@ -7,6 +7,7 @@ values worked by hand, the options, exit statuses, atomic ``--output`` and the r
 from __future__ import annotations
 
 import itertools
+import json
 import math
 import os
 import signal
@@ -429,6 +430,15 @@ def test_an_empty_output_name_is_a_usage_error_not_ignored(monkeypatch: pytest.M
     assert result.err.startswith("collisionlab: --output: ") and "empty" in result.err
 
 
+def test_of_several_outputs_the_last_counts(tmp_path: Path) -> None:
+    # argparse keeps the last --output: the run writes there (the fuzz suite's helper checked
+    # the first one's JSON, '' or a missing folder, and failed on a run that had succeeded).
+    target = tmp_path / "o.json"
+    result = run_cli(["run", "head-on", "--output", "", "--format", "json", "--output", str(target)])
+    assert result.status == 0 and result.out == ""
+    assert json.loads(target.read_text())["title"] and files_in(tmp_path) == ["o.json"]
+
+
 def test_a_failed_write_names_the_users_path_not_the_temporary_file(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -613,3 +623,23 @@ def test_a_control_character_typed_in_an_argument_is_escaped_in_the_error_line(t
         assert len(errors) == 1, result.err
         shown = result.err.replace("\n", "")  # (the line ends themselves)
         assert not any(c in shown for c in word if not c.isprintable())
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["run", "head-on", "--steps", "9" * 5000],  # argparse echoed the whole value
+        ["run", "head-on", "--mode", "x" * 5000],
+        ["run", "x" * 5000],  # "File name too long", naming the whole name
+        ["run", "head-on", "--output", "/nowhere/" + "o" * 5000],
+        ["gas", "--n", "v" * 5000],
+    ],
+    ids=["steps", "mode", "file", "output", "gas"],
+)
+def test_a_long_value_typed_on_the_command_line_is_shortened_in_the_error_line(argv: list[str]) -> None:
+    # The README's policy: values repeated in a message are shortened. A command-line argument
+    # can be 128 kB: each error line is cut in the middle, keeping its start and its end.
+    result = run_cli(argv)
+    assert result.status in (1, 2)
+    lines = [line for line in result.err.splitlines() if not line.startswith(("usage:", " "))]
+    assert len(lines) == 1 and len(lines[0]) <= 400 and "..." in lines[0], result.err

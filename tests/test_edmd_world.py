@@ -126,3 +126,19 @@ def test_bad_input_names_the_field() -> None:
         EventDrivenWorld([[1.0, 1.0]], [[0.0, 0.0]], [5.0, 5.0])
     with pytest.raises(InvalidInputError, match=r"^fraction"):
         ExactGas(n=100, dim=3, fraction=0.7, boundary="walls").world()
+
+
+# --- issue 11 (the audit): a run looked at between chunks (Ctrl-C, the range guard) --------------
+def test_looking_between_chunks_changes_nothing() -> None:
+    # The guard and the command line's look for Ctrl-C run between chunks of events: the run is
+    # the same to the last bit as one run straight through (the events, the final state).
+    gas = ExactGas(n=400, dim=3, time=5.0, boundary="periodic").checked()
+    straight = gas.world()
+    straight.run(gas.time)
+    chunked = gas.world()
+    looks: list[None] = []
+    chunked.run(gas.time, between=lambda: looks.append(None), every=100)
+    assert len(looks) >= straight.tally().events // 100 > 10
+    assert chunked.tally() == straight.tally()
+    assert np.array_equal(chunked.positions, straight.positions)
+    assert np.array_equal(chunked.velocities, straight.velocities)

@@ -5,14 +5,19 @@ from __future__ import annotations
 
 import json
 import random
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from collisionlab import InvalidInputError, Plane, Sphere
+from collisionlab.edmd.guard import RunGuard
+from collisionlab.edmd.observables import ExactGas
 from collisionlab.errors import OutOfRangeError
 from collisionlab.limits import MAX_BODY_STEPS, MAX_RESTITUTION, MAX_RUN_SPEED, MAX_STEPS, MAX_TRAVEL_PER_SIZE
 from collisionlab.model import Body, Obstacle, Scenario, Settings
+from collisionlab.particles.scenarios import gas_scenario
 from collisionlab.world import simulate
 from tests.cli_helpers import run_cli
 
@@ -149,3 +154,50 @@ def test_json_output_is_valid_json_at_the_edge_of_the_range() -> None:
 
     text = render_json(record)
     json.loads(text, parse_constant=lambda name: pytest.fail(f"{name} in the JSON"))
+
+
+# --- the many-body gas (issue 11, the audit) ----------------------------------------------------
+@pytest.mark.parametrize(
+    ("changes", "field", "words"),
+    [
+        ({"n": 10**20}, "n", "at most"),  # ran for minutes before any message
+        ({"time": 1e308}, "time", "at most"),  # ran for ever (and ignored Ctrl-C)
+        ({"time": 5e-324}, "time", "at least"),  # Infinity in the JSON (momentum over the time)
+        ({"fraction": 1e-20}, "fraction", "at least"),  # ValueError: negative dimensions
+        ({"seed": -1}, "seed", ">= 0"),  # numpy's ValueError
+    ],
+)
+def test_the_exact_gas_refuses_what_cannot_finish_or_fit(changes: dict[str, float], field: str, words: str) -> None:
+    with pytest.raises(InvalidInputError) as caught:
+        ExactGas(**{"n": 10, "time": 1.0, **changes}).checked()  # type: ignore[arg-type]
+    assert caught.value.field == field and words in str(caught.value)
+
+
+def test_the_gas_refuses_more_balls_than_fit() -> None:
+    # collisionlab gas --n 99999999999999999999 ended in "unexpected error: ValueError: array is too big".
+    with pytest.raises(InvalidInputError, match="at most 1e\\+07") as caught:
+        gas_scenario(10**20)
+    assert caught.value.field == "n"
+    assert gas_scenario(10, 2).velocities.shape == (10, 2)
+
+
+def test_an_exact_gas_whose_speeds_explode_stops_out_of_range_not_spinning_for_ever() -> None:
+    # e = 10: speeds grow tenfold at each collision until a ball crosses its neighbour-list shell
+    # within the resolution of the time; the compiled loop then spun at one instant for ever. The
+    # guard (edmd.guard) stops the run with the library's error. max_events bounds this run should
+    # the guard fail: it would then end quietly, and the test fail instead of hanging.
+    world = ExactGas(n=10, dim=2, time=100.0, restitution=10.0).checked().world()
+    guard = RunGuard(world)
+    with pytest.raises(OutOfRangeError, match="too large to simulate"):
+        world.run(100.0, max_events=50_000_000, between=guard, every=guard.every)
+
+
+def test_the_exploding_exact_gas_through_the_command_line_exits_65() -> None:
+    # The same gas as the command line runs it (on the engine's world, whose event-driven stepper
+    # holds the guard); a subprocess with a timeout, so a run that spins fails the test.
+    argv = ["gas", "--mode", "exact", "--n", "10", "--dim", "2", "--time", "100", "--restitution", "10"]
+    done = subprocess.run(
+        [sys.executable, "-m", "collisionlab", *argv], capture_output=True, text=True, timeout=600, check=False
+    )
+    assert done.returncode == 65, done.stderr
+    assert "too large to simulate" in done.stderr and "Traceback" not in done.stderr

@@ -3,17 +3,21 @@ invalid point does not stop the sweep; Ctrl-C then --resume finishes without run
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pyarrow.parquet as pq
+import pytest
 
+from collisionlab.cli.interrupts import Stopped
 from collisionlab.tolerances import ISCLOSE_REL_TOL
 
-from .cli_helpers import SCRIPT, example, finish, run_cli
+from .cli_helpers import EXAMPLES, SCRIPT, example, finish, run_cli
 
 #: Diameters: an exact gas's overlap is rounding only (the library's relative closeness).
 ROUNDING = ISCLOSE_REL_TOL
@@ -151,3 +155,45 @@ def test_an_interrupted_sweep_resumes_without_running_a_row_twice(tmp_path: Path
     # nothing more to do: a second --resume runs nothing
     done = run_cli(["sweep", str(sweep), "--resume", "--quiet", "--output", str(tmp_path / "slow")])
     assert done.status == 0 and "nothing to run" in done.err
+
+
+# --- issue 11 (the audit): sweep's --output checked before the run; SIGTERM and SIGHUP as Ctrl-C ---
+def test_an_output_in_a_missing_folder_is_refused_before_a_cluster_starts(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # It ran the whole sweep (20 s), then said "missing/.x.rznyb3az.tmp.csv: No such file or
+    # directory" (the temporary file), exit 1, with a Dask traceback now and then.
+    from collisionlab.sweep import runner
+
+    def no_cluster(*_: object) -> None:
+        raise AssertionError("a cluster was started")
+
+    monkeypatch.setattr(runner, "dask_client", no_cluster)
+    prefix = tmp_path / "missing" / "x"
+    result = run_cli(["sweep", str(EXAMPLES / "sweep-dt.toml"), "--output", str(prefix)])
+    assert result.status == 2
+    assert result.err.strip() == (
+        f"collisionlab: --output: cannot write {prefix}.csv: the folder {prefix.parent} does not exist"
+    )
+
+
+@pytest.mark.parametrize(("signum", "status"), [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
+def test_sigterm_and_sighup_stop_a_sweep_as_ctrl_c_with_their_own_status(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, signum: int, status: int
+) -> None:
+    # They ended as "interrupted", status 130 (the README: 143 and 129).
+    from collisionlab.sweep import runner
+
+    @contextlib.contextmanager
+    def no_cluster(*_: object) -> Iterator[None]:
+        yield None
+
+    def stopped(*_: object) -> None:
+        raise Stopped(signum)
+
+    monkeypatch.setattr(runner, "dask_client", no_cluster)
+    monkeypatch.setattr(runner, "run_sweep", stopped)
+    result = run_cli(["sweep", str(EXAMPLES / "sweep-dt.toml"), "--output", str(tmp_path / "x")])
+    name = signal.Signals(signum).name
+    assert result.status == status
+    assert f"collisionlab sweep: stopped by {name}: 0 of " in result.err and "--resume" in result.err

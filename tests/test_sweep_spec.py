@@ -233,3 +233,40 @@ def test_a_missing_file_and_bad_flags(tmp_path: Path) -> None:
     assert zero.status == 2 and "--workers" in zero.err
     plot = run_cli(["sweep", str(good), "--plot", str(tmp_path / "no-such-folder" / "p.png")])
     assert plot.status == 2 and "--plot" in plot.err
+
+
+# --- issue 11 (the audit): a sweep file is read as a scenario file is -----------------------------
+@pytest.mark.parametrize(
+    ("content", "field", "words"),
+    [
+        (b"\xff", "file", "is not UTF-8 text (byte 0xff at offset 0)"),  # was UnicodeDecodeError, exit 1
+        (b"[sweep]\nx = " + b"[" * 500 + b"]" * 500 + b"\n", "file", "nested too deeply"),  # was RecursionError
+        (b"# " + b"x" * 1_000_000 + b"\n", "file", "larger than 1,000,000 bytes"),
+        (
+            BASE.replace('demo = "sphere-plane"', 'scenario = "bad.toml"').encode(),
+            "sweep.scenario",
+            "bad.toml is not UTF-8",
+        ),
+    ],
+    ids=["not-utf8", "nested", "too-large", "base-not-utf8"],
+)
+def test_a_sweep_file_is_read_as_a_scenario_file_is(tmp_path: Path, content: bytes, field: str, words: str) -> None:
+    (tmp_path / "bad.toml").write_bytes(b"\xfe")
+    path = tmp_path / "sweep.toml"
+    path.write_bytes(content)
+    with pytest.raises(SweepError) as caught:
+        load_sweep(path)
+    assert caught.value.field == field and words in str(caught.value)
+    result = run_cli(["sweep", str(path)])
+    assert result.status == 65 and result.err.strip().startswith(f"collisionlab sweep: {path}: {field}: ")
+
+
+@pytest.mark.parametrize("where", ["the sweep file", "its base scenario"])
+def test_an_endless_file_is_refused_without_reading_it_all(tmp_path: Path, where: str) -> None:
+    # collisionlab sweep /dev/zero read on until memory ran out.
+    path = Path("/dev/zero")
+    if where == "its base scenario":
+        path = tmp_path / "sweep.toml"
+        path.write_text(BASE.replace('demo = "sphere-plane"', 'scenario = "/dev/zero"'))
+    with pytest.raises(SweepError, match="larger than 1,000,000 bytes"):
+        load_sweep(path)

@@ -3,8 +3,9 @@ when complete, so a failed or interrupted run never leaves a half-written file.
 
 What is replaced is always a regular file, keeping its mode. A symlink is followed (its target
 is replaced, the link stays); a special file (a FIFO, a device such as ``/dev/null``) cannot be
-replaced and is written through instead, once the whole text is known. Errors name the path the
-user gave, never the temporary file.
+replaced and is written through instead, once the whole output is known (by every writer here:
+the run's output, pictures, event files, sweep tables). Errors name the path the user gave,
+never the temporary file.
 """
 
 from __future__ import annotations
@@ -63,22 +64,39 @@ def check_target(path: str, option: str) -> Path:
 def atomic_path(target: str | Path) -> Iterator[Path]:
     """Yield a temporary path beside ``target``; on success it replaces ``target``, on any
     error (or Ctrl-C, or SIGTERM handled as it) it is removed and ``target`` is left as it was.
-    A symlink ``target`` is followed; an existing file's mode is kept."""
+    A symlink ``target`` is followed; an existing file's mode is kept. A special file (a FIFO, a
+    device such as ``/dev/null``) cannot be replaced: the temporary file is then made in the
+    system's temporary folder and, once complete, its bytes are written into ``target``."""
+    given = str(target)
     target = Path(os.path.realpath(target))
-    folder = target.parent
+    special = target.exists() and not target.is_file()
     try:
         mode = stat.S_IMODE(target.stat().st_mode)
     except OSError:  # a new file: what open() would give it
         mode = 0o666 & ~_umask()
     # Same folder (so the rename is atomic) and same extension (writers that pick the format
     # from the name, such as matplotlib, still see it).
-    handle, name = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".tmp{target.suffix}", dir=folder)
+    folder = None if special else target.parent
+    try:
+        handle, name = tempfile.mkstemp(prefix=f".{target.stem}.", suffix=f".tmp{target.suffix}", dir=folder)
+    except OSError as error:  # (the folder is gone, or not writable): name the user's path
+        raise OSError(error.errno, error.strerror or str(error), given) from None
     temporary = Path(name)
     try:
         os.close(handle)
         yield temporary
-        os.chmod(temporary, mode)  # mkstemp makes it private
-        os.replace(temporary, target)
+        if special:
+            with open(temporary, "rb") as source, open(target, "wb") as sink:
+                shutil.copyfileobj(source, sink)
+            temporary.unlink()
+        else:
+            os.chmod(temporary, mode)  # mkstemp makes it private
+            os.replace(temporary, target)
+    except OSError as error:
+        temporary.unlink(missing_ok=True)
+        if error.filename in (name, str(target)):  # about the temporary file or the target: the user's path
+            raise OSError(error.errno, error.strerror or str(error), given) from None
+        raise
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise

@@ -30,6 +30,11 @@ step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the d
                             half edge            travelled; beyond ~1e7 sizes per step it misses
 during a run: positions     ``|x| <= 1e12`` m,   beyond: the run stops (exit status 65)
 and speeds                  ``|v| <= 1e12`` m/s
+gas: balls                  ``<= 1e7``           a few GB (the exact gas: ~400 bytes a ball)
+exact gas: time             ``1e-9 .. 1e6``      event times are absolute: at 1e6 a double
+                                                 still resolves 1e-10 of a time unit
+exact gas: packing fraction ``>= 1e-6``          sparser, a ball meets another less than once
+                                                 in 1e6 time units
 scenario file               ``<= 1,000,000``
                             bytes
 ==========================  ===================  ==============================================
@@ -63,6 +68,8 @@ __all__ = [
     "MAX_BODY_STEPS",
     "MAX_COORDINATE",
     "MAX_DT",
+    "MAX_GAS_BALLS",
+    "MAX_GAS_TIME",
     "MAX_MASS",
     "MAX_RESTITUTION",
     "MAX_RUN_COORDINATE",
@@ -73,6 +80,8 @@ __all__ = [
     "MAX_STEPS",
     "MAX_TRAVEL_PER_SIZE",
     "MIN_DT",
+    "MIN_GAS_FRACTION",
+    "MIN_GAS_TIME",
     "MIN_MASS",
     "MIN_SIZE",
     "RangeGuard",
@@ -80,6 +89,8 @@ __all__ = [
     "check_scenario",
     "check_vector",
     "dt",
+    "gas_balls",
+    "gas_time",
     "is_overflow",
     "restitution",
     "steps",
@@ -115,6 +126,17 @@ MAX_TRAVEL_PER_SIZE = 1e6
 #: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
 MAX_RUN_COORDINATE = 1e12
 MAX_RUN_SPEED = 1e12
+#: Balls of the many-body gas (both modes of ``collisionlab gas``): the exact gas holds ~400 bytes
+#: a ball (bench/README.md), so at most a few GB.
+MAX_GAS_BALLS = 10_000_000
+#: Time units of the exact gas (radius 1, mass 1, kT 1). Its event times are absolute: at 1e6 a
+#: double still resolves 1e-10 of a time unit; below 1e-9 its pressure (momentum given to the
+#: walls over the time) could overflow.
+MIN_GAS_TIME = 1e-9
+MAX_GAS_TIME = 1e6
+#: The exact gas's packing fraction (area or volume): a ball's free path is about a radius over
+#: the fraction, so below this it would meet another less than once in ``MAX_GAS_TIME``.
+MIN_GAS_FRACTION = 1e-6
 #: Bytes: the largest scenario file read (a file is read up to this and one byte more).
 MAX_SCENARIO_BYTES = 1_000_000
 
@@ -141,6 +163,18 @@ def steps(value: object, field: str) -> int:
     count = whole_number(value, field, minimum=1)
     within(count, field, 0, MAX_STEPS)
     return count
+
+
+def gas_balls(value: object, field: str) -> int:
+    """A number of balls of the many-body gas: a whole number >= 1, at most ``MAX_GAS_BALLS``."""
+    count = whole_number(value, field, minimum=1)
+    within(count, field, 0, MAX_GAS_BALLS)
+    return count
+
+
+def gas_time(value: object, field: str) -> float:
+    """How long the exact gas runs: a number within ``[MIN_GAS_TIME, MAX_GAS_TIME]``."""
+    return within(positive(value, field), field, MIN_GAS_TIME, MAX_GAS_TIME)
 
 
 def restitution(value: object, field: str) -> float:

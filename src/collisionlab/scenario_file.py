@@ -23,7 +23,7 @@ from .shapes import AABB, Circle, Line, Plane, Sphere
 from .validate import non_negative, positive, positive_or_inf, whole_number
 from .vector import Vector3D, as_vector
 
-__all__ = ["SCENARIO_FIELDS", "ScenarioError", "load_scenario", "parse_scenario", "scenario_to_toml"]
+__all__ = ["SCENARIO_FIELDS", "ScenarioError", "load_scenario", "parse_scenario", "read_toml", "scenario_to_toml"]
 
 T = TypeVar("T")
 
@@ -310,28 +310,37 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
     )
 
 
-def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario file (at most ``MAX_SCENARIO_BYTES``; UTF-8 TOML)."""
+def read_toml(path: str | Path, invalid: Callable[[str, str, str], InvalidInputError], kind: str) -> dict[str, Any]:
+    """The data of the TOML file at ``path``, read as every input file of collisionlab is (a
+    scenario, a sweep): at most ``MAX_SCENARIO_BYTES`` (never more is read: ``/dev/zero`` is
+    endless), UTF-8, not nested too deeply. Bad data raises ``invalid(source, "file", problem)``;
+    a missing or unreadable file, the ``OSError`` (the caller says what it was reading)."""
     source = str(path)
-    try:
-        with open(path, "rb") as file:
-            raw = file.read(MAX_SCENARIO_BYTES + 1)  # never more: /dev/zero is endless
-    except OSError as error:
-        # Not bad data but a missing or unreadable file: an "other failure" (exit status 1).
-        raise CollisionLabError(f"{escape_controls(source)}: cannot be read: {error.strerror or error}") from None
+    with open(path, "rb") as file:
+        raw = file.read(MAX_SCENARIO_BYTES + 1)
     if len(raw) > MAX_SCENARIO_BYTES:
-        raise ScenarioError(source, "file", f"is larger than {MAX_SCENARIO_BYTES:,} bytes; a scenario file is small")
+        raise invalid(source, "file", f"is larger than {MAX_SCENARIO_BYTES:,} bytes; a {kind} file is small")
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as error:
         byte = raw[error.start]
-        raise ScenarioError(source, "file", f"is not UTF-8 text (byte 0x{byte:02x} at offset {error.start})") from None
+        raise invalid(source, "file", f"is not UTF-8 text (byte 0x{byte:02x} at offset {error.start})") from None
     try:
-        data = tomllib.loads(text)
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
-        raise ScenarioError(source, "file", f"is not valid TOML: {error}") from None
+        raise invalid(source, "file", f"is not valid TOML: {error}") from None
     except RecursionError:
-        raise ScenarioError(source, "file", "is nested too deeply (arrays or tables within each other)") from None
+        raise invalid(source, "file", "is nested too deeply (arrays or tables within each other)") from None
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and validate a scenario file (at most ``MAX_SCENARIO_BYTES``; UTF-8 TOML)."""
+    source = str(path)
+    try:
+        data = read_toml(path, ScenarioError, "scenario")
+    except OSError as error:
+        # Not bad data but a missing or unreadable file: an "other failure" (exit status 1).
+        raise CollisionLabError(f"{escape_controls(source)}: cannot be read: {error.strerror or error}") from None
     return parse_scenario(data, source)
 
 

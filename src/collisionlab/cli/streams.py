@@ -6,9 +6,14 @@ import sys
 from dataclasses import dataclass, field
 from typing import TextIO
 
-from ..errors import escape_controls
+from ..errors import escape_controls, shorten
 
-__all__ = ["Streams"]
+__all__ = ["ERROR_LINE_CHARS", "Streams"]
+
+#: Characters: the longest line written to stderr. Error lines echo what was typed (a path, a
+#: flag's value: up to 128 kB each on Linux); a longer line is cut in the middle ("..."), so its
+#: start (the option or file) and its end (the reason, or the end of the value) both show.
+ERROR_LINE_CHARS = 300
 
 
 @dataclass
@@ -36,5 +41,7 @@ class Streams:
 
     def err(self, text: str) -> None:
         """One message (a usage error's usage before it); a control character that a value
-        carried in is escaped, so it can neither forge lines nor drive the terminal."""
-        self.stderr.write(escape_controls(text, keep="\n") + "\n")
+        carried in is escaped, so it can neither forge lines nor drive the terminal, and each
+        line is at most about ``ERROR_LINE_CHARS`` long."""
+        lines = escape_controls(text, keep="\n").split("\n")
+        self.stderr.write("\n".join(shorten(line, ERROR_LINE_CHARS) for line in lines) + "\n")

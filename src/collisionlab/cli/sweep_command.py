@@ -12,8 +12,10 @@ import time
 from pathlib import Path
 from typing import Any
 
+from ..atomic import check_target
 from ..errors import InvalidInputError
 from ..sweep.spec import SweepError, load_sweep
+from .interrupts import Stopped
 from .progress import SHOW_AFTER
 from .run_command import positive_int
 from .streams import Streams
@@ -110,6 +112,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     prefix = args.output or Path(args.file).stem
     columns = table_columns(spec)
     store = ResultStore(prefix, columns)
+    for path in (store.csv_path, store.parquet_path):  # as run --output: checked before the sweep
+        check_target(str(path), "--output")
     store.start(args.resume)
     total = len(spec.points()) * spec.replicas
     if args.resume and store.rows:
@@ -122,13 +126,14 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         else:
             store.close()
             outcome = None
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as stop:  # Ctrl-C, or SIGTERM or SIGHUP handled as it (Stopped)
         progress.close()
+        how = f"stopped by {stop.name}" if isinstance(stop, Stopped) else "interrupted"
         streams.err(
-            f"\n{_PROG}: interrupted: {len(store.rows)} of {total} rows are in {store.csv_path}; "
+            f"\n{_PROG}: {how}: {len(store.rows)} of {total} rows are in {store.csv_path}; "
             "run again with --resume to finish"
         )
-        return 130
+        return stop.status if isinstance(stop, Stopped) else 130
     progress.close()
     rows = store.sorted_rows()
     if not args.quiet:

@@ -15,6 +15,7 @@ routes differ by a surface term of order ``sigma / L``. ``kT = 2 E_kin / (d N)``
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
@@ -64,11 +65,11 @@ class ExactGas:
 
     def checked(self) -> ExactGas:
         """The same settings, validated (:class:`InvalidInputError` names the field)."""
-        n = whole_number(self.n, "n")
+        n = limits.gas_balls(self.n, "n")
         dim = whole_number(self.dim, "dim")
         if dim not in (2, 3):
             raise InvalidInputError("dim", "must be 2 or 3", got=self.dim)
-        fraction = positive(self.fraction, "fraction")
+        fraction = limits.within(positive(self.fraction, "fraction"), "fraction", limits.MIN_GAS_FRACTION, math.inf)
         if fraction >= (0.9069 if dim == 2 else 0.7405):
             raise InvalidInputError(
                 "fraction", "must be below close packing (0.9069 in 2D, 0.7405 in 3D)", got=fraction
@@ -88,8 +89,8 @@ class ExactGas:
             dim=dim,
             fraction=fraction,
             boundary=self.boundary,
-            time=positive(self.time, "time"),
-            seed=int(self.seed),
+            time=limits.gas_time(self.time, "time"),
+            seed=whole_number(self.seed, "seed", minimum=0),
             restitution=restitution,
             gravity=gravity,
             tc=non_negative(tc, "tc"),

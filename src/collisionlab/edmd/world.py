@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from ..errors import InvalidInputError
 from ..validate import non_negative, positive
 from . import layout as L
-from .loop import BUFFER_FULL, LIST_FULL, max_overlap_now, run_events, start, synchronize
+from .loop import BUFFER_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
 
 __all__ = ["EventDrivenWorld", "EventSink", "Tally", "shell_for"]
 
@@ -222,21 +222,26 @@ class EventDrivenWorld:
         max_events: int | None = None,
         working: bool = False,
         bring: bool = True,
+        between: Callable[[], None] | None = None,
+        every: int = BUFFER_EVENTS,
     ) -> None:
         """Handle every event up to time ``until`` (or stop after ``max_events``), then (when
         ``bring``) bring every body to that time. ``sink`` receives the events in blocks as they
         happen, with each one's working (normal, point, normal speed, e, velocities) when
         ``working``. Without ``bring`` the bodies stay at the times of their last events, so a
         run split into many calls is the same, to the last bit, as one call (:meth:`state`
-        reads where they are without moving them)."""
+        reads where they are without moving them). ``between``, when given, is called at least
+        every ``every`` events, with control back in Python: it may look at the state, or raise
+        to stop the run; the run is the same to the last bit however often it is called."""
         limit = np.iinfo(np.int64).max if max_events is None else int(max_events)
         columns = L.EVENT_FULL if working else L.EVENT_BRIEF
         buffer = np.zeros((BUFFER_EVENTS if sink is not None else 0, columns))
         while True:
             before = int(self.K[L.K_EVENTS])
+            chunk = limit if between is None else min(limit, max(1, int(every)))
             status = run_events(
                 self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K,
-                buffer, float(until), limit,
+                buffer, float(until), chunk,
             )  # fmt: skip
             limit -= int(self.K[L.K_EVENTS]) - before
             if sink is not None and self.K[L.K_BUFFERED] > 0:
@@ -247,7 +252,9 @@ class EventDrivenWorld:
                 block[:, 2] = np.where(b >= 0, self.order[np.maximum(b, 0)], b)
                 sink(block)
                 self.K[L.K_BUFFERED] = 0
-            if status == BUFFER_FULL:
+            if between is not None and status != LIST_FULL:  # after the sink: no event is lost if it raises
+                between()
+            if status == BUFFER_FULL or (status == EVENT_LIMIT and limit > 0):  # (a chunk for between)
                 continue
             if status == LIST_FULL:
                 self.NB = np.zeros((self.n, 2 * self.NB.shape[1]), dtype=np.int32)

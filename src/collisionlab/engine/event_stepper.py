@@ -73,6 +73,7 @@ class EventDrivenStepper:
     ) -> None:
         from ..edmd import EventDrivenWorld
         from ..edmd.compile import is_cached
+        from ..edmd.guard import RunGuard
 
         self.bodies, self.statics, self.dims, self.params = bodies, statics, dims, params
         self.record_events = record_events
@@ -103,6 +104,7 @@ class EventDrivenStepper:
             raise InvalidInputError(
                 "body" if error.field == "positions" else f"simulation.{error.field}", error.problem, error.got
             ) from None
+        self.guard = RunGuard(self.world)
         self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
         self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
         self._copied = True  # the world's arrays hold the start
@@ -115,10 +117,10 @@ class EventDrivenStepper:
         until = (first_step + steps) * dt
         # The balls are not brought to ``until``: only read there (state()), so a run is the
         # same to the last bit however its steps were split into calls.
-        if self.record_events:
-            self.world.run(until, lambda block: blocks.append(block.copy()), working=True, bring=False)
-        else:
-            self.world.run(until, bring=False)
+        # The guard stops a run whose speeds overflow (e > 1) or whose time stalls (edmd.guard).
+        guard = self.guard
+        sink = (lambda block: blocks.append(block.copy())) if self.record_events else None
+        self.world.run(until, sink, working=self.record_events, bring=False, between=guard, every=guard.every)
         self._copied = False
         self._events = self._rows(np.concatenate(blocks) if blocks else np.zeros((0, 24)), dt, first_step, steps)
         self._tally()

@@ -16,6 +16,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from .. import limits
 from ..errors import InvalidInputError
 from ..model import BodyBlock, Box, Scenario, Settings
 from ..validate import positive, whole_number
@@ -105,7 +106,7 @@ def gas_scenario(
     >>> bool(abs(np.sqrt((gas.velocities**2).sum(1).mean()) * gas.dt - 0.1) < 1e-12)
     True
     """
-    n = whole_number(n, "n")
+    n = limits.gas_balls(n, "n")
     dim = whole_number(dim, "dim")
     if dim not in (2, 3):
         raise InvalidInputError("dim", "must be 2 or 3", got=dim)

@@ -1,7 +1,7 @@
 """JSON Schemas (draft 2020-12) shipped with collisionlab, for other programs that read its files.
 
 * ``run.schema.json``: the output of ``collisionlab run/demo --format json``;
-* ``gas.schema.json``: the output of ``collisionlab gas --format json``;
+* ``gas.schema.json``: the output of ``collisionlab gas --format json`` (stepped or exact);
 * ``scenario.schema.json``: a scenario file, as the data its TOML parses to.
 
 >>> schema("run").get("title")

@@ -104,7 +104,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None) -> Ite
         threads_per_worker=1,
         processes=True,
         dashboard_address=None,
-        silence_logs=logging.ERROR,
+        silence_logs=logging.CRITICAL,  # its own errors (a heartbeat cut at shutdown) are not ours to print
     )
     with cluster, Client(cluster) as client:
         yield client

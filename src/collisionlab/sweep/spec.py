@@ -45,7 +45,7 @@ from typing import Any
 
 from ..demos import demo_names, demo_text
 from ..errors import CollisionLabError, InvalidInputError
-from ..scenario_file import SCENARIO_FIELDS
+from ..scenario_file import SCENARIO_FIELDS, read_toml
 from .points import (
     EXACT_GAS_DEFAULTS,
     EXACT_GAS_KEYS,
@@ -334,12 +334,14 @@ def _base(source: str, sweep: Mapping[str, Any], folder: Path) -> tuple[str, dic
     if not isinstance(name, str):
         raise SweepError(source, "sweep.scenario", "must be the path of a scenario file", got=name)
     path = folder / name
+
+    def invalid(_: str, __: str, problem: str) -> SweepError:  # read as a scenario file is (bounded, UTF-8)
+        return SweepError(source, "sweep.scenario", f"{path} {problem}")
+
     try:
-        return "scenario", tomllib.loads(path.read_text(encoding="utf-8"))
+        return "scenario", read_toml(path, invalid, "scenario")
     except OSError as error:
         raise SweepError(source, "sweep.scenario", f"cannot read {path}: {error.strerror or error}") from None
-    except tomllib.TOMLDecodeError as error:
-        raise SweepError(source, "sweep.scenario", f"{path} is not valid TOML: {error}") from None
 
 
 def _whole(source: str, sweep: Mapping[str, Any], key: str, default: int, minimum: int) -> int:
@@ -430,13 +432,11 @@ def parse_sweep(data: Mapping[str, Any], source: str = "<sweep>", folder: Path =
 
 def load_sweep(path: str | Path) -> SweepSpec:
     """Read and check a sweep file."""
+    # As a scenario file is read: bounded (sweep /dev/zero grew for ever), UTF-8 (else a raw
+    # UnicodeDecodeError), not nested too deeply (else a RecursionError); a missing file is exit 1.
     source = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        data = read_toml(path, SweepError, "sweep")
     except OSError as error:  # not bad data but a missing file: an "other failure" (exit status 1)
         raise CollisionLabError(f"{source}: cannot be read: {error.strerror or error}") from None
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise SweepError(source, "file", f"is not valid TOML: {error}") from None
     return parse_sweep(data, source, Path(path).parent)
