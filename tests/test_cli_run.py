@@ -643,3 +643,21 @@ def test_a_long_value_typed_on_the_command_line_is_shortened_in_the_error_line(a
     assert result.status in (1, 2)
     lines = [line for line in result.err.splitlines() if not line.startswith(("usage:", " "))]
     assert len(lines) == 1 and len(lines[0]) <= 400 and "..." in lines[0], result.err
+
+
+def test_frames_beyond_memory_are_refused_only_when_pictures_keep_them(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Without pictures the frames stream to the output as they are made (nothing is kept), so a
+    # long run of many bodies is not refused for memory it does not use; with --plot every frame
+    # is kept, and the bound holds. The bound is lowered so a small run meets it: the head-on
+    # example's 2 bodies x (200 frames after the first) = 400 > 300.
+    import collisionlab.limits
+
+    monkeypatch.setattr(collisionlab.limits, "MAX_BODY_STEPS", 300)
+    streamed = run_cli(["run", example("head-on"), "--steps", "200", "--format", "csv"])
+    assert streamed.status == 0, streamed.err
+    assert len(streamed.out.splitlines()) == 1 + 201  # the header, then a row per frame (steps 0..200)
+    kept = run_cli(["run", example("head-on"), "--steps", "200", "--plot", str(tmp_path / "p.png")])
+    assert kept.status == 2 and kept.err.startswith("collisionlab: --steps: ") and "fit in memory" in kept.err
+    assert not (tmp_path / "p.png").exists()

@@ -177,8 +177,8 @@ def execute(
                 except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
                     flag = error.field.replace("simulation.", "--")
                     raise error.renamed(flag) if flag[2:] in overrides else error from None
-            # The kept frames must fit in memory: say so before the run, naming the flag.
-            limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
+            if pictures:  # pictures keep every frame: they must fit in memory (said before the run)
+                limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
             if index:
                 spool.write(",\n" if args.format == "json" else "\n")
             writer = writer_for(args.format, spool, args.every, args.quiet, args.explain)
