@@ -28,6 +28,7 @@ __all__ = [
     "CollisionEvent",
     "EventBlock",
     "Frame",
+    "FrameBodies",
     "Ledger",
     "RunObserver",
     "RunRecord",
@@ -51,21 +52,63 @@ class BodyState:
     velocity: Vector3D
 
 
+class FrameBodies(BuiltSequence[BodyState]):
+    """A frame's bodies held as arrays (``positions`` and ``velocities``, ``(n, 3)``, owned), each
+    :class:`BodyState` built only when read: a world of thousands of bodies writes its frames
+    from the arrays (:meth:`Frame.to_dict`, the table and CSV writers) without making millions of
+    vectors. Equal to any sequence of the same body states.
+
+    >>> bodies = FrameBodies(("a",), np.array([[1.0, -0.0, 0.0]]), np.zeros((1, 3)))
+    >>> bodies[0].position, bodies == (BodyState("a", Vector3D(1, 0, 0), Vector3D(0, 0, 0)),)
+    (Vector3D(x=1.0, y=-0.0, z=0.0), True)
+    """
+
+    def __init__(self, names: Sequence[str], positions: NDArray[np.float64], velocities: NDArray[np.float64]) -> None:
+        self.names, self.positions, self.velocities = names, positions, velocities
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def _item(self, i: int) -> BodyState:
+        return BodyState(self.names[i], Vector3D(*self.positions[i].tolist()), Vector3D(*self.velocities[i].tolist()))
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Sequence):
+            return NotImplemented
+        return len(self) == len(other) and all(a == b for a, b in zip(self, other, strict=True))
+
+    def __hash__(self) -> int:
+        return hash(tuple(self))
+
+    def __repr__(self) -> str:
+        return repr(tuple(self))
+
+    def dicts(self) -> list[dict[str, Any]]:
+        """``Frame.to_dict``'s bodies, from the arrays (``+ 0.0``: no signed zero)."""
+        positions, velocities = (self.positions + 0.0).tolist(), (self.velocities + 0.0).tolist()
+        return [
+            {"name": name, "position": x, "velocity": v}
+            for name, x, v in zip(self.names, positions, velocities, strict=True)
+        ]
+
+
 @dataclass(frozen=True)
 class Frame:
-    """The state after ``step`` steps, at ``time`` seconds (step 0 is the start)."""
+    """The state after ``step`` steps, at ``time`` seconds (step 0 is the start). ``bodies`` is
+    a tuple, or a :class:`FrameBodies` from a world's arrays."""
 
     step: int
     time: float
-    bodies: tuple[BodyState, ...]
+    bodies: Sequence[BodyState]
 
     def to_dict(self) -> dict[str, Any]:
+        bodies = self.bodies
         return {
             "step": self.step,
             "time": self.time + 0.0,
-            "bodies": [
-                {"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in self.bodies
-            ],
+            "bodies": bodies.dicts()
+            if isinstance(bodies, FrameBodies)
+            else [{"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in bodies],
         }
 
 

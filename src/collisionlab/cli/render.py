@@ -13,7 +13,7 @@ from typing import IO, Any, TextIO
 
 import numpy as np
 
-from ..record import CollisionEvent, EventBlock, Frame, RunObserver, RunRecord, SkippedContact
+from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
 
@@ -105,8 +105,12 @@ def _skip_line(skip: SkippedContact) -> str:
 
 def _row(frame: Frame, dims: int) -> str:
     cells = [f"{frame.step:>6}", f"{frame.time:>{_WIDTH}.4f}"]
-    for body in frame.bodies:
-        cells += [_f(c, f">{_WIDTH}.4f") for c in body.position.as_tuple()[:dims]]
+    bodies = frame.bodies
+    if isinstance(bodies, FrameBodies):  # a world's frame: from its arrays
+        cells += [_f(c, f">{_WIDTH}.4f") for c in bodies.positions[:, :dims].ravel().tolist()]
+    else:
+        for body in bodies:
+            cells += [_f(c, f">{_WIDTH}.4f") for c in body.position.as_tuple()[:dims]]
     return " ".join(cells)
 
 
@@ -225,9 +229,13 @@ class CsvWriter:
         if frame.step % self._every and frame.step != self._steps:
             return
         row: list[object] = [frame.step, f"{frame.time:.15g}"]
-        for body in frame.bodies:
-            # 15 significant digits: every digit a double holds for sure (JSON keeps all 17).
-            row += [f"{c:.15g}" for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
+        # 15 significant digits: every digit a double holds for sure (JSON keeps all 17).
+        bodies = frame.bodies
+        if isinstance(bodies, FrameBodies):  # a world's frame: from its arrays
+            row += [f"{c:.15g}" for c in np.hstack((bodies.positions, bodies.velocities)).ravel().tolist()]
+        else:
+            for body in bodies:
+                row += [f"{c:.15g}" for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
         self._writer.writerow(row)
 
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:

@@ -29,7 +29,7 @@ import numpy as np
 from .. import limits
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..record import BodyState, EventBlock, Frame, RunObserver, RunRecord, SkippedContact
+from ..record import EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import exact_kernels, step_kernels
 from .event_stepper import EventDrivenStepper
@@ -239,15 +239,8 @@ class World:
         return self._frame(self.position_array, self.velocity_array)
 
     def _frame(self, position_array: Any, velocity_array: Any) -> Frame:
-        positions, velocities = position_array.tolist(), velocity_array.tolist()
-        return Frame(
-            self.step_index,
-            self.time,
-            tuple(
-                BodyState(name, Vector3D(*x), Vector3D(*v))
-                for name, x, v in zip(self._names, positions, velocities, strict=True)
-            ),
-        )
+        # The arrays are the world's copies (position_array); body states are built only if read.
+        return Frame(self.step_index, self.time, FrameBodies(self._names, position_array, velocity_array))
 
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
