@@ -90,6 +90,7 @@ INLINE = (
     "_static_bounds_meet",
     "_pair_key",
     "_contains",
+    "_move_apart",
 )
 
 #: An event row's kind: an impact; a contact skipped as separating; an impact whose e was set to 0
@@ -427,8 +428,54 @@ def _find_contacts(
     """Every pair closer than ``margin``, bodies stored in cell order; returns how many (which may
     exceed the buffers' capacity: the caller grows them and asks again). ``cd`` is the depth
     (minus the separation)."""
+    return _find_pairs(
+        kind,
+        pos,
+        ext,
+        ids,
+        s_kind,
+        s_a,
+        s_b,
+        dims,
+        lo,
+        h,
+        shape,
+        cell_start,
+        stencil,
+        ca,
+        cb,
+        cd,
+        np.zeros((0, 3)),
+        margin,
+    )
+
+
+def _find_pairs(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    ids: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    dims: int,
+    lo: Any,
+    h: float,
+    shape: Any,
+    cell_start: Any,
+    stencil: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    cn: Any,
+    margin: float,
+) -> int:
+    """:func:`_find_contacts`, also keeping each contact's unit normal in ``cn`` (rows of three)
+    while ``cn`` has room: the positions do not change until push-apart, so the impulse sweeps
+    read it there instead of computing the separation again."""
     n = pos.shape[0]
     cap = ca.shape[0]
+    cap_n = cn.shape[0]
     nx = shape[0]
     ny = shape[1]
     nz = shape[2]
@@ -473,6 +520,10 @@ def _find_contacts(
                         ca[count] = a
                         cb[count] = b
                         cd[count] = -sep[0]
+                    if count < cap_n:
+                        cn[count, 0] = sep[1]
+                        cn[count, 1] = sep[2]
+                        cn[count, 2] = sep[3]
                     count += 1
         for s in range(s_kind.shape[0]):
             if s_kind[s] != STATIC_BOX:  # a line, plane or wall: the centre's side, written out
@@ -492,6 +543,10 @@ def _find_contacts(
                     ca[count] = -1 - s
                     cb[count] = i
                     cd[count] = -sep[0]
+                if count < cap_n:
+                    cn[count, 0] = sep[1]
+                    cn[count, 1] = sep[2]
+                    cn[count, 2] = sep[3]
                 count += 1
     return count
 
@@ -623,8 +678,12 @@ def _impulses(
     ca: Any,
     cb: Any,
     cd: Any,
+    cn: Any,
     order: Any,
     touching: Any,
+    seen: Any,
+    changed: Any,
+    clock: int,
     e_default: float,
     rest_speed: float,
     gravity: Any,
@@ -638,8 +697,16 @@ def _impulses(
     event_count: Any,
     ledger: Any,
 ) -> Any:
-    """One pass of impulses over the contacts in ``order``; returns the event buffer (grown if it
-    had to be). ``event_count[1]`` counts the impulses this pass applied."""
+    """One pass of impulses over the contacts in ``order``, each along its normal ``cn`` (found
+    with the contacts: positions do not change while impulses are applied); returns the event
+    buffer (grown if it had to be). ``event_count[1]`` counts the impulses this pass applied.
+
+    After the first pass a contact is looked at again only if the velocity of one of its bodies
+    changed since it was last looked at: ``changed[body]`` is the tick of the body's last impulse,
+    ``seen[c]`` that of the contact's last look, and the contact at place ``t`` of this pass looks
+    at tick ``clock + t`` (ticks only grow). Its result could not differ from the last one, which
+    applied nothing (an impulse changes the pair's own velocities), so skipping it changes no
+    number."""
     before = np.zeros(6)
     for t in range(order.shape[0]):
         c = order[t]
@@ -653,20 +720,24 @@ def _impulses(
         inv_sum = ima_a + ima[b]
         if inv_sum == 0.0:
             continue
-        sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-        nx = sep[1]
-        ny = sep[2]
-        nz = sep[3]
+        if not first_pass and changed[b] < seen[c] and (a < 0 or changed[a] < seen[c]):
+            continue  # neither velocity changed since this contact was last looked at
+        tick = clock + t
+        seen[c] = tick
+        nx = cn[c, 0]
+        ny = cn[c, 1]
+        nz = cn[c, 2]
         vax = vel[a, 0] if a >= 0 else 0.0
         vay = vel[a, 1] if a >= 0 else 0.0
         vaz = vel[a, 2] if a >= 0 else 0.0
         vn = (vel[b, 0] - vax) * nx + (vel[b, 1] - vay) * ny + (vel[b, 2] - vaz) * nz
         id_a = ids[a] if a >= 0 else a
         if vn >= 0.0:
-            if record and first_pass and touching[c] == 0 and sep[0] <= 0.0:
+            if record and first_pass and touching[c] == 0 and cd[c] >= 0.0:
                 for k in range(6):
                     before[k] = 0.0
                 code = EVENT_SKIPPED
+                sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                 events = _write_event(
                     events, event_count[0], code, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
                 )
@@ -707,12 +778,14 @@ def _impulses(
             vel[a, 1] = vay - ny * ja
             vel[a, 2] = vaz - nz * ja
             kinetic_after += (vel[a, 0] * vel[a, 0] + vel[a, 1] * vel[a, 1] + vel[a, 2] * vel[a, 2]) / ima_a
+            changed[a] = tick
         if ima[b] > 0.0:
             kinetic_before += (before[3] * before[3] + before[4] * before[4] + before[5] * before[5]) / ima[b]
             vel[b, 0] = before[3] + nx * jb
             vel[b, 1] = before[4] + ny * jb
             vel[b, 2] = before[5] + nz * jb
             kinetic_after += (vel[b, 0] * vel[b, 0] + vel[b, 1] * vel[b, 1] + vel[b, 2] * vel[b, 2]) / ima[b]
+            changed[b] = tick
         ledger[1] += 0.5 * (kinetic_after - kinetic_before)
         ledger[3] -= 0.5 * (1.0 - e * e) * vn * vn / inv_sum
         if a >= 0:
@@ -723,6 +796,7 @@ def _impulses(
         if touching[c] == 0:
             touching[c] = 1
             if record and -vn >= resting:
+                sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                 events = _write_event(
                     events,
                     event_count[0],
@@ -742,6 +816,40 @@ def _impulses(
                 )
                 event_count[0] += 1
     return events
+
+
+def _move_apart(
+    pos: Any,
+    ima: Any,
+    a: int,
+    b: int,
+    sep0: float,
+    nx: float,
+    ny: float,
+    nz: float,
+    slop: float,
+    gravity: Any,
+    ledger: Any,
+) -> None:
+    """Move the pair ``(a, b)``, overlapping by ``-sep0`` along the normal ``n``, apart to a gap of
+    ``slop``, in inverse proportion to mass (``a < 0``: a static, which stays). The potential
+    energy this changes goes to ``ledger[2]``, the overlap to ``ledger[4]`` if it is the deepest."""
+    ima_a = ima[a] if a >= 0 else 0.0
+    inv_sum = ima_a + ima[b]
+    ledger[4] = max(ledger[4], -sep0)
+    push = slop - sep0
+    sa = push * ima_a / inv_sum
+    sb = push * ima[b] / inv_sum
+    change = 0.0
+    for k in range(3):
+        n_k = nx if k == 0 else (ny if k == 1 else nz)
+        if a >= 0 and ima_a > 0.0:
+            pos[a, k] = pos[a, k] - n_k * sa
+            change += gravity[k] * n_k * sa / ima_a
+        pos[b, k] = pos[b, k] + n_k * sb
+        if ima[b] > 0.0:
+            change -= gravity[k] * n_k * sb / ima[b]
+    ledger[2] += change
 
 
 def _push_apart(
@@ -779,19 +887,70 @@ def _push_apart(
         sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
         if sep[0] >= 0.0:  # touching is not overlapping: nothing to undo
             continue
-        ledger[4] = max(ledger[4], -sep[0])
-        push = slop - sep[0]
-        sa = push * ima_a / inv_sum
-        sb = push * ima[b] / inv_sum
-        change = 0.0
-        for k in range(3):
-            if a >= 0 and ima_a > 0.0:
-                pos[a, k] = pos[a, k] - sep[1 + k] * sa
-                change += gravity[k] * sep[1 + k] * sa / ima_a
-            pos[b, k] = pos[b, k] + sep[1 + k] * sb
-            if ima[b] > 0.0:
-                change -= gravity[k] * sep[1 + k] * sb / ima[b]
-        ledger[2] += change
+        _move_apart(pos, ima, a, b, sep[0], sep[1], sep[2], sep[3], slop, gravity, ledger)
+        moves += 1
+    return moves
+
+
+def _push_sweep(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    ima: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    cn: Any,
+    order: Any,
+    seen: Any,
+    moved: Any,
+    found: int,
+    clock: int,
+    first_pass: bool,
+    gravity: Any,
+    slop: float,
+    solver_margin: float,
+    ledger: Any,
+) -> int:
+    """:func:`_push_apart`'s pass, looking at a contact only when it could move something: in
+    the first pass every contact; after it only those one of whose bodies moved since the contact
+    was last looked at (``moved[body]`` against ``seen[c]``, ticks as in :func:`_impulses`; the
+    contact at place ``t`` looks at tick ``clock + t``). A contact neither of whose bodies moved
+    since tick ``found`` (when the contacts were found) takes its separation from there
+    (``-cd``, ``cn``). Either way the same numbers as :func:`_push_apart`. Returns the moves."""
+    moves = 0
+    for t in range(order.shape[0]):
+        c = order[t]
+        if cd[c] < -solver_margin:
+            continue
+        a = ca[c]
+        b = cb[c]
+        ima_a = ima[a] if a >= 0 else 0.0
+        inv_sum = ima_a + ima[b]
+        if inv_sum == 0.0:
+            continue
+        last = moved[b]
+        if a >= 0 and moved[a] > last:
+            last = moved[a]
+        if not first_pass and last < seen[c]:
+            continue  # neither body moved since this contact was last looked at
+        tick = clock + t
+        seen[c] = tick
+        if last < found:  # where it was found: the separation is the one found then
+            if cd[c] <= 0.0:  # touching is not overlapping: nothing to undo
+                continue
+            _move_apart(pos, ima, a, b, -cd[c], cn[c, 0], cn[c, 1], cn[c, 2], slop, gravity, ledger)
+        else:
+            sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+            if sep[0] >= 0.0:
+                continue
+            _move_apart(pos, ima, a, b, sep[0], sep[1], sep[2], sep[3], slop, gravity, ledger)
+        if a >= 0:
+            moved[a] = tick
+        moved[b] = tick
         moves += 1
     return moves
 
@@ -882,6 +1041,12 @@ def run_steps(
     max_cells = cell_start.shape[0] - 2
     lo = np.zeros(3)
     shape = np.zeros(3, np.int64)
+    cn = np.zeros((ca.shape[0], 3))  # each contact's normal, kept while positions stay
+    # Ticks of the sweeps (see _impulses): a body's last velocity change, its last move; they
+    # only grow, so values from earlier steps (other bodies, after the re-sort) are all older.
+    changed = np.full(n, -1, np.int64)
+    moved = np.full(n, -1, np.int64)
+    clock = 0
     for step in range(first_step, first_step + steps):
         time = (step + 1) * dt  # the time at the end of this step, when its contacts are resolved
         _integrate(pos, vel, ima, gravity, dt, ledger)
@@ -889,14 +1054,32 @@ def run_steps(
         h = _grid_geometry(pos, dims, min_cell, max_cells, lo, shape)
         _counting_sort(pos, dims, lo, h, shape, cell_start, dest)
         _store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
-        count = _find_contacts(
-            kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, contact_margin
+        count = _find_pairs(
+            kind,
+            pos,
+            ext,
+            ids,
+            s_kind,
+            s_a,
+            s_b,
+            dims,
+            lo,
+            h,
+            shape,
+            cell_start,
+            stencil,
+            ca,
+            cb,
+            cd,
+            cn,
+            contact_margin,
         )
         if count > ca.shape[0]:
             ca = np.zeros(2 * count, np.int64)
             cb = np.zeros(2 * count, np.int64)
             cd = np.zeros(2 * count)
-            _find_contacts(
+            cn = np.zeros((2 * count, 3))
+            _find_pairs(
                 kind,
                 pos,
                 ext,
@@ -913,6 +1096,7 @@ def run_steps(
                 ca,
                 cb,
                 cd,
+                cn,
                 contact_margin,
             )
         order = _order_contacts(pos, ca, cb, cd, count)
@@ -920,6 +1104,7 @@ def run_steps(
         for c in range(count):
             if _contains(touch_keys, touch_count[0], _pair_key(ca, cb, ids, n, c)):
                 touching[c] = 1
+        seen = np.empty(count, np.int64)
         for p in range(passes):
             event_count[1] = 0
             events = _impulses(
@@ -937,8 +1122,12 @@ def run_steps(
                 ca,
                 cb,
                 cd,
+                cn,
                 order,
                 touching,
+                seen,
+                changed,
+                clock,
                 e_default,
                 rest_speed,
                 gravity,
@@ -952,15 +1141,36 @@ def run_steps(
                 event_count,
                 ledger,
             )
+            clock += count
             if event_count[1] == 0:
                 break
-        for _ in range(passes):
-            if (
-                _push_apart(
-                    kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, order, gravity, slop, solver_margin, ledger
-                )
-                == 0
-            ):
+        found = clock
+        for p in range(passes):
+            moves = _push_sweep(
+                kind,
+                pos,
+                ext,
+                ima,
+                s_kind,
+                s_a,
+                s_b,
+                ca,
+                cb,
+                cd,
+                cn,
+                order,
+                seen,
+                moved,
+                found,
+                clock,
+                p == 0,
+                gravity,
+                slop,
+                solver_margin,
+                ledger,
+            )
+            clock += count
+            if moves == 0:
                 break
         _clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
         # The pairs now in contact: near this step and already touching, or newly hit.
