@@ -141,6 +141,8 @@ _HASH_Z = 19349663
 #: to 62 bits so that the Python and compiled forms (unbounded and wrapping integers) agree.
 _KEY_MIX = 0x278DDE6E5FD29F05
 _LOW_62 = 2**62 - 1
+#: The tick of a contact never looked at (later than any).
+_NEVER = 2**62
 
 
 # --- state helpers ------------------------------------------------------------------------------
@@ -1094,7 +1096,6 @@ def _impulses(
     cb: Any,
     cd: Any,
     cn: Any,
-    order: Any,
     touching: Any,
     seen: Any,
     changed: Any,
@@ -1112,32 +1113,34 @@ def _impulses(
     event_count: Any,
     ledger: Any,
 ) -> Any:
-    """One pass of impulses over the contacts in ``order``, each along its normal ``cn`` (found
-    with the contacts: positions do not change while impulses are applied); returns the event
-    buffer (grown if it had to be). ``event_count[1]`` counts the impulses this pass applied.
+    """One pass of impulses over the contacts, stored in the order they are resolved, each along
+    its normal ``cn`` (found with the contacts: positions do not change while impulses are
+    applied); returns the event buffer (grown if it had to be). ``event_count[1]`` counts the
+    impulses this pass applied.
 
     After the first pass a contact is looked at again only if the velocity of one of its bodies
     changed since it was last looked at: ``changed[body]`` is the tick of the body's last impulse,
-    ``seen[c]`` that of the contact's last look, and the contact at place ``t`` of this pass looks
-    at tick ``clock + t`` (ticks only grow). Its result could not differ from the last one, which
-    applied nothing (an impulse changes the pair's own velocities), so skipping it changes no
-    number."""
+    ``seen[c]`` that of the contact's last look (``_NEVER`` if none), and contact ``c`` looks at
+    tick ``clock + c`` in this pass (ticks only grow). Its result could not differ from the last
+    one, which applied nothing (an impulse changes the pair's own velocities), so skipping it
+    changes no number."""
     before = np.zeros(6)
-    for t in range(order.shape[0]):
-        c = order[t]
+    for c in range(cd.shape[0]):
+        b = cb[c]
+        if not first_pass and changed[b] < seen[c]:
+            a = ca[c]
+            if a < 0 or changed[a] < seen[c]:
+                continue  # neither velocity changed since this contact was last looked at
         if cd[c] < 0.0 and (touching[c] == 0 or cd[c] < -solver_margin):
             # Apart: a new impact needs contact (lab eqs. 2, 7, 9); a pair already in contact
             # keeps its impulses within solver_margin, so a resting stack stays supported.
             continue
         a = ca[c]
-        b = cb[c]
         ima_a = ima[a] if a >= 0 else 0.0
         inv_sum = ima_a + ima[b]
         if inv_sum == 0.0:
             continue
-        if not first_pass and changed[b] < seen[c] and (a < 0 or changed[a] < seen[c]):
-            continue  # neither velocity changed since this contact was last looked at
-        tick = clock + t
+        tick = clock + c
         seen[c] = tick
         nx = cn[c, 0]
         ny = cn[c, 1]
@@ -1297,7 +1300,6 @@ def _push_sweep(
     cb: Any,
     cd: Any,
     cn: Any,
-    order: Any,
     seen: Any,
     moved: Any,
     found: int,
@@ -1308,15 +1310,15 @@ def _push_sweep(
     solver_margin: float,
     ledger: Any,
 ) -> int:
-    """:func:`_push_apart`'s pass, looking at a contact only when it could move something: in
-    the first pass every contact; after it only those one of whose bodies moved since the contact
-    was last looked at (``moved[body]`` against ``seen[c]``, ticks as in :func:`_impulses`; the
-    contact at place ``t`` looks at tick ``clock + t``). A contact neither of whose bodies moved
-    since tick ``found`` (when the contacts were found) takes its separation from there
-    (``-cd``, ``cn``). Either way the same numbers as :func:`_push_apart`. Returns the moves."""
+    """:func:`_push_apart`'s pass over the contacts, stored in the order they are resolved,
+    looking at a contact only when it could move something: in the first pass every contact;
+    after it only those one of whose bodies moved since the contact was last looked at
+    (``moved[body]`` against ``seen[c]``, ticks as in :func:`_impulses`: contact ``c`` looks at
+    tick ``clock + c``). A contact neither of whose bodies moved since tick ``found`` (when the
+    contacts were found) takes its separation from there (``-cd``, ``cn``). Either way the same
+    numbers as :func:`_push_apart`. Returns the moves."""
     moves = 0
-    for t in range(order.shape[0]):
-        c = order[t]
+    for c in range(cd.shape[0]):
         if cd[c] < -solver_margin:
             continue
         a = ca[c]
@@ -1330,7 +1332,7 @@ def _push_sweep(
             last = moved[a]
         if not first_pass and last < seen[c]:
             continue  # neither body moved since this contact was last looked at
-        tick = clock + t
+        tick = clock + c
         seen[c] = tick
         if last < found:  # where it was found: the separation is the one found then
             gap = -cd[c]
@@ -1565,11 +1567,16 @@ def run_steps(
                 contact_margin,
             )
         order = _order_contacts(pos, ca, cb, cd, count)
+        # The contacts in that order, so that the sweeps read them in sequence.
+        oa = ca[order]
+        ob = cb[order]
+        od = cd[order]
+        on = cn[order]
         touching = np.zeros(count, np.int8)
         while table.shape[0] < 2 * touch_count[0]:
             table = np.zeros(2 * table.shape[0], np.int64)
-        _mark_touching(touch_keys, touch_count[0], table, ca, cb, ids, n, count, touching)
-        seen = np.empty(count, np.int64)
+        _mark_touching(touch_keys, touch_count[0], table, oa, ob, ids, n, count, touching)
+        seen = np.full(count, _NEVER, np.int64)
         for p in range(passes):
             event_count[1] = 0
             events = _impulses(
@@ -1584,11 +1591,10 @@ def run_steps(
                 s_a,
                 s_b,
                 s_e,
-                ca,
-                cb,
-                cd,
-                cn,
-                order,
+                oa,
+                ob,
+                od,
+                on,
                 touching,
                 seen,
                 changed,
@@ -1619,11 +1625,10 @@ def run_steps(
                 s_kind,
                 s_a,
                 s_b,
-                ca,
-                cb,
-                cd,
-                cn,
-                order,
+                oa,
+                ob,
+                od,
+                on,
                 seen,
                 moved,
                 found,
@@ -1637,15 +1642,15 @@ def run_steps(
             clock += count
             if moves == 0:
                 break
-        _clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
+        _clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, oa, ob, count, gravity, slop, ledger)
         # The pairs now in contact: near this step and already touching, or newly hit.
         kept = 0
         if count > touch_keys.shape[0]:
             touch_keys = np.zeros(2 * count, np.int64)
         for c in range(count):
             if touching[c] == 1:
-                a = ca[c]
-                touch_keys[kept] = _key_of(ids[a] if a >= 0 else n + (-1 - a), ids[cb[c]], n)
+                a = oa[c]
+                touch_keys[kept] = _key_of(ids[a] if a >= 0 else n + (-1 - a), ids[ob[c]], n)
                 kept += 1
         touch_count[0] = kept
     return touch_keys, ca, cb, cd, events
