@@ -129,6 +129,9 @@ _SHORT_RUN = 16
 #: The grid's cells are as wide as all bodies but the widest ``n // LARGE_SHARE`` (those meet the
 #: cells they cover instead), so a few large boxes among many small balls leave cells small.
 LARGE_SHARE = 32
+#: A hashed grid's buckets per body (at least; a power of two): a row of three cells then meets
+#: about ``3 / BUCKETS_PER_BODY`` bodies of other cells sharing its buckets.
+BUCKETS_PER_BODY = 8
 #: Cells per axis below which a cell's coordinates are kept in one key ``x + KEY_Y y + KEY_Z z``.
 AXIS_CELLS = 2**20
 _KEY_Y = 2**21
@@ -446,8 +449,8 @@ def _grid_plan(
     """Fill ``lo`` (lowest corner) and ``shape`` (cells per axis, 1 for a missing axis) of a grid
     of cell side ``h`` over the bodies at most ``width`` wide, and return ``(h, buckets)``: the
     cells themselves if there are fewer than ``max_cells`` (``buckets = 0``), else the cells
-    hashed into ``buckets``, a power of two below ``max_cells`` (Ericson 7.1.3): a sparse or
-    spread-out scene keeps cells one body wide. ``h`` is doubled only while an axis would have
+    hashed into ``buckets``, the power of two at least ``BUCKETS_PER_BODY`` per body (Ericson
+    7.1.3): a sparse or spread-out scene keeps cells one body wide. ``h`` is doubled only while an axis would have
     ``AXIS_CELLS`` cells or more (a cell's coordinates then fit its key)."""
     n = pos.shape[0]
     hi = np.zeros(3)
@@ -480,7 +483,7 @@ def _grid_plan(
     if cells <= max_cells - 1:
         return h, 0
     buckets = 1
-    while 2 * buckets <= max_cells - 1:
+    while buckets < BUCKETS_PER_BODY * n:
         buckets *= 2
     return h, buckets
 
@@ -658,7 +661,7 @@ def _find_pairs(
     grid's cells (or, if ``buckets > 0``, its buckets, each body's cell in ``cell_key``) hold the
     bodies in slots ``0 : n_small``; each meets the bodies of its own cell after it and of the
     neighbour cells in ``stencil``, a row of consecutive cells (consecutive slots) at a time. The
-    larger bodies after them each meet the grid's bodies in the cells their box, widened by two
+    larger bodies after them each meet the grid's bodies in the cells their box, widened by 1.5
     cells, covers (all of them if there are fewer), then the larger bodies after it. Also keeps
     each contact's unit normal in ``cn`` (rows of three) while ``cn`` has room: the positions do
     not change until push-apart, so the impulse sweeps read it there instead of computing the
@@ -701,14 +704,15 @@ def _find_pairs(
             cz = int((pos[i, 2] - lo[2]) / h) if dims == 3 else 0
             r_end = n_rows
         else:
-            # A larger body: a grid body within reach has its centre less than a cell from the
-            # box (two cells are taken, for rounding); its rows of cells, or every grid body.
-            x0 = max((pos[i, 0] - ext[i, 0] - 2.0 * h - lo[0]) / h, 0.0)
-            x1 = min((pos[i, 0] + ext[i, 0] + 2.0 * h - lo[0]) / h, nx - 1.0)
-            y0 = max((pos[i, 1] - ext[i, 1] - 2.0 * h - lo[1]) / h, 0.0)
-            y1 = min((pos[i, 1] + ext[i, 1] + 2.0 * h - lo[1]) / h, ny - 1.0)
-            z0 = max((pos[i, 2] - ext[i, 2] - 2.0 * h - lo[2]) / h, 0.0) if dims == 3 else 0.0
-            z1 = min((pos[i, 2] + ext[i, 2] + 2.0 * h - lo[2]) / h, nz - 1.0) if dims == 3 else 0.0
+            # A larger body: a grid body within reach has its centre less than h - width / 2
+            # from the box (h / 2 more is taken, for rounding); its rows of cells, or every
+            # grid body.
+            x0 = max((pos[i, 0] - ext[i, 0] - 1.5 * h - lo[0]) / h, 0.0)
+            x1 = min((pos[i, 0] + ext[i, 0] + 1.5 * h - lo[0]) / h, nx - 1.0)
+            y0 = max((pos[i, 1] - ext[i, 1] - 1.5 * h - lo[1]) / h, 0.0)
+            y1 = min((pos[i, 1] + ext[i, 1] + 1.5 * h - lo[1]) / h, ny - 1.0)
+            z0 = max((pos[i, 2] - ext[i, 2] - 1.5 * h - lo[2]) / h, 0.0) if dims == 3 else 0.0
+            z1 = min((pos[i, 2] + ext[i, 2] + 1.5 * h - lo[2]) / h, nz - 1.0) if dims == 3 else 0.0
             r_end = 0
             if x0 <= x1 and y0 <= y1 and z0 <= z1:
                 y_first = int(y0)
@@ -912,21 +916,25 @@ def _contact_cmp(pos: Any, ca: Any, cb: Any, p: int, q: int) -> int:
 
 
 def _insertion_sort(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int) -> None:
-    """Sort ``order[s:t]`` by :func:`_contact_cmp`, stably (equal contacts keep their order)."""
+    """Sort ``order[s:t]`` by :func:`_contact_cmp`, equal contacts by their storage index (so the
+    order the run comes in does not matter)."""
     for u in range(s + 1, t):
         key = order[u]
         v = u - 1
-        while v >= s and _contact_cmp(pos, ca, cb, key, order[v]) < 0:
+        while v >= s:
+            c = _contact_cmp(pos, ca, cb, key, order[v])
+            if c > 0 or (c == 0 and key > order[v]):
+                break
             order[v + 1] = order[v]
             v -= 1
         order[v + 1] = key
 
 
 def _sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any) -> None:
-    """:func:`_insertion_sort` for a long run, the same order: a stable partition (body pairs
-    first), then each part stably sorted by the first coordinate of the position
-    :func:`_contact_cmp` compares first (the lower body's, or the body's), then the rare runs of
-    equal first coordinates by :func:`_insertion_sort`."""
+    """:func:`_insertion_sort` for a long run, the same order: body pairs first, each part sorted
+    by the first coordinate of the position :func:`_contact_cmp` compares first (the lower
+    body's, or the body's), then the rare runs of equal first coordinates by
+    :func:`_insertion_sort`."""
     k = s
     for u in range(s, t):
         if ca[order[u]] >= 0:
@@ -950,7 +958,7 @@ def _sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any
             b = cb[order[u]]
             low = a if a >= 0 and _lex3(pos[a, 0], pos[a, 1], pos[a, 2], pos[b, 0], pos[b, 1], pos[b, 2]) <= 0 else b
             first[u - u0] = pos[low, 0]
-        rank = np.argsort(first, kind="mergesort")
+        rank = np.argsort(first)
         for u in range(u0, u1):
             spare[u] = order[u0 + rank[u - u0]]
         for u in range(u0, u1):
@@ -966,10 +974,11 @@ def _sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any
 
 
 def _order_contacts(pos: Any, ca: Any, cb: Any, cd: Any, count: int) -> Any:
-    """Contacts deepest first; runs of equal depth sorted by :func:`_contact_cmp` (stably: by
-    insertion, or :func:`_sort_run` for runs longer than ``_SHORT_RUN``, as resting contacts
-    make)."""
-    order = np.argsort(-cd[:count], kind="mergesort")
+    """Contacts deepest first; runs of equal depth sorted by :func:`_contact_cmp`, then by storage
+    index (as a stable sort of the depths would leave them): by insertion, or :func:`_sort_run`
+    for runs longer than ``_SHORT_RUN``, as resting contacts make. Every step of it may sort
+    unstably: the order is total."""
+    order = np.argsort(-cd[:count])
     spare = np.empty(count, np.int64)
     s = 0
     while s < count:
@@ -978,7 +987,7 @@ def _order_contacts(pos: Any, ca: Any, cb: Any, cd: Any, count: int) -> Any:
             t += 1
         if t - s > _SHORT_RUN:
             _sort_run(pos, ca, cb, order, s, t, spare)
-        else:
+        elif t - s > 1:
             _insertion_sort(pos, ca, cb, order, s, t)
         s = t
     return order
@@ -1491,7 +1500,8 @@ def run_steps(
     """Advance ``steps`` steps in place (the module docstring's order). The state is re-sorted by
     cell each step and ``ids`` follows the bodies; ``scratch_f`` ``(n, 11)`` and ``scratch_i``
     ``(n, 2)`` are scratch space. ``touch_keys[:touch_count[0]]`` (keys of :func:`_pair_key`, in
-    no order) are the pairs in contact, carried from step to step. Returns the buffers
+    no order) are the pairs in contact, carried from step to step. A hashed grid's buckets
+    (``BUCKETS_PER_BODY`` per body) are held only while the call runs. Returns the buffers
     ``(touch_keys, ca, cb, cd, events)``, grown if they had to be; ``event_count[0]`` counts the
     event rows written."""
     n = pos.shape[0]
@@ -1502,6 +1512,7 @@ def run_steps(
     width = _grid_width(ext, dims)  # the widest body in the grid; wider ones are met apart
     key_of = np.zeros(n, np.int64)
     cell_key = np.zeros(n, np.int64)
+    hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
     # Ticks of the sweeps (see _impulses): a body's last velocity change, its last move; they
     # only grow, so values from earlier steps (other bodies, after the re-sort) are all older.
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
@@ -1513,7 +1524,10 @@ def run_steps(
         _integrate(pos, vel, ima, gravity, dt, ledger)
         # Sort the state by cell (Ericson 7.1.3): the pair search then reads memory in sequence.
         h, buckets = _grid_plan(pos, ext, dims, width, width + contact_margin, max_cells, lo, shape)
-        n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, cell_start, dest, key_of, cell_key)
+        if buckets > 0 and hashed.shape[0] < buckets + 3:
+            hashed = np.zeros(buckets + 3, np.int64)
+        starts = hashed if buckets > 0 else cell_start
+        n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
         _store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
         count = _find_pairs(
             kind,
@@ -1529,7 +1543,7 @@ def run_steps(
             shape,
             buckets,
             n_small,
-            cell_start,
+            starts,
             stencil,
             cell_key,
             ca,
@@ -1557,7 +1571,7 @@ def run_steps(
                 shape,
                 buckets,
                 n_small,
-                cell_start,
+                starts,
                 stencil,
                 cell_key,
                 ca,
@@ -1671,14 +1685,20 @@ def find_near(
     margin: float,
 ) -> Any:
     """Every pair closer than ``margin`` now, as rows ``(A, B)`` of ids (a static is ``-1 - s``)
-    and their depths, without changing the state (the grid works on sorted copies)."""
+    and their depths, without changing the state (the grid of :func:`run_steps`, on sorted
+    copies; cells of ``min_cell`` if the bodies have no size and ``margin`` is 0)."""
     n = pos.shape[0]
     lo = np.zeros(3)
     shape = np.zeros(3, np.int64)
-    h = _grid_geometry(pos, dims, min_cell, max_cells, lo, shape)
-    cell_start = np.zeros(max_cells + 2, np.int64)
+    width = _grid_width(ext, dims)
+    h, buckets = _grid_plan(
+        pos, ext, dims, width, width + margin if width + margin > 0.0 else min_cell, max_cells, lo, shape
+    )
+    starts = np.zeros((buckets if buckets > 0 else max_cells) + 3, np.int64)
     dest = np.zeros(n, np.int64)
-    _counting_sort(pos, dims, lo, h, shape, cell_start, dest)
+    key_of = np.zeros(n, np.int64)
+    cell_key = np.zeros(n, np.int64)
+    n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
     spos = np.zeros_like(pos)
     sext = np.zeros_like(ext)
     skind = np.zeros_like(kind)
@@ -1691,15 +1711,56 @@ def find_near(
     ca = np.zeros(cap, np.int64)
     cb = np.zeros(cap, np.int64)
     cd = np.zeros(cap)
-    count = _find_contacts(
-        skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, margin
+    no_normals = np.zeros((0, 3))
+    count = _find_pairs(
+        skind,
+        spos,
+        sext,
+        sids,
+        s_kind,
+        s_a,
+        s_b,
+        dims,
+        lo,
+        h,
+        shape,
+        buckets,
+        n_small,
+        starts,
+        stencil,
+        cell_key,
+        ca,
+        cb,
+        cd,
+        no_normals,
+        margin,
     )
     if count > cap:
         ca = np.zeros(count, np.int64)
         cb = np.zeros(count, np.int64)
         cd = np.zeros(count)
-        _find_contacts(
-            skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, margin
+        _find_pairs(
+            skind,
+            spos,
+            sext,
+            sids,
+            s_kind,
+            s_a,
+            s_b,
+            dims,
+            lo,
+            h,
+            shape,
+            buckets,
+            n_small,
+            starts,
+            stencil,
+            cell_key,
+            ca,
+            cb,
+            cd,
+            no_normals,
+            margin,
         )
     pairs = np.zeros((count, 2), np.int64)
     for t in range(count):
