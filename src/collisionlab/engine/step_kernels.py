@@ -4,13 +4,18 @@ compiled by numba (:mod:`collisionlab.engine.compiled`) for large ones, the same
 One step, in this fixed order (the lab's part VI, for any number of bodies):
 
 1. **Integrate** with Forward Euler: ``x += v dt``, then ``v += g dt`` (bodies of finite mass).
-2. **Broad phase**: a uniform grid of cells at least one body wide; bodies are sorted into it by
-   a counting sort and stored in cell order; each cell meets itself and half its neighbours, so
-   every unordered pair of cells is visited once (Ericson, *Real-Time Collision Detection*,
-   7.1-7.1.3). Statics (lines, planes, walls, fixed boxes) meet every body.
+2. **Broad phase**: a uniform grid of cells as wide as the bodies it holds (plus
+   ``contact_margin``): all but the widest one in ``LARGE_SHARE``, so a few large boxes leave the
+   cells small. Bodies are sorted into it by a counting sort and stored in cell order; each cell
+   meets itself and half its neighbours, so every unordered pair of cells is visited once
+   (Ericson, *Real-Time Collision Detection*, 7.1-7.1.3). A grid of more cells than its budget
+   (a sparse or spread-out scene) is hashed into buckets instead of being coarsened (7.1.3). Each
+   of the larger bodies meets the grid's bodies in the cells its box covers, and the other larger
+   bodies. Statics (lines, planes, walls, fixed boxes) meet every body.
 3. **Narrow phase**: each candidate pair's separation from
    :mod:`collisionlab.engine.geometry_kernels` (one kernel per pair of features). Pairs closer
-   than ``contact_margin`` are "near"; those closer than ``solver_margin`` are contacts.
+   than ``contact_margin`` are "near"; those closer than ``solver_margin`` are contacts. Each
+   contact's normal is kept: positions do not change until push-apart.
 4. **Order**: contacts deepest first; ties broken by geometry (the positions of the two bodies,
    lexicographically, lower first), never by storage, so permuting the bodies permutes the
    result exactly; body pairs before static contacts, statics by their number.
@@ -18,7 +23,9 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    (sequential impulses): ``v_n = (v_b - v_a) . n``; nothing if ``v_n >= 0``; else
    ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, ``v_a -= (j/m_a) n``,
    ``v_b += (j/m_b) n`` (lab eqs. 12, 15, 24). Swept again while a sweep applies one, at most
-   ``passes`` times. A pair gets an impulse when it touches or overlaps, or, if it was already in
+   ``passes`` times; a sweep after the first looks again only at the contacts one of whose
+   bodies' velocity changed since they were last looked at (the others would give the same
+   result: nothing). A pair gets an impulse when it touches or overlaps, or, if it was already in
    contact, when it is within ``solver_margin`` (so a resting stack stays supported). An impulse
    on a pair that was not already in contact is a collision event, unless it rests on a support
    that does not fall (a static or a kinematic body): an approach no faster than
@@ -28,7 +35,8 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    floor or an incline stays on it and slides without hops or events, and a dropped ball comes
    to rest after a few bounces instead of hopping forever.
 6. **Push apart**, in the same order, from current positions: a pair still overlapping by ``d``
-   moves apart to a gap of ``slop``, shared in inverse proportion to mass; swept the same way.
+   moves apart to a gap of ``slop``, shared in inverse proportion to mass; swept the same way
+   (after the first sweep only contacts one of whose bodies moved since they were last looked at).
    Finally every body past a one-sided wall is put back inside it (walls are hard).
 
 Each body pair is oriented as the scenario orders pairs: A is the body given first (a ball-box
@@ -81,15 +89,22 @@ STATIC_BOX = 2
 #: several numba arrays (each a struct of seven fields) costs more than the work inside.
 INLINE = (
     "_pair_e",
+    "_pair_sep",
     "_body_separation",
+    "_static_sep",
     "_static_separation",
     "_contact_separation",
     "_cell_of",
     "_lex_cmp",
+    "_lex3",
     "_orient",
     "_static_bounds_meet",
     "_pair_key",
+    "_key_of",
     "_contains",
+    "_body_width",
+    "_wider",
+    "_bucket",
 )
 
 #: An event row's kind: an impact; a contact skipped as separating; an impact whose e was set to 0
@@ -108,6 +123,29 @@ LEDGER_SIZE = 7
 
 
 _WIDEN = 1.0 + BROADPHASE_WIDEN
+#: Runs of contacts of equal depth up to this long are sorted by insertion, longer ones by their
+#: first coordinate (bodies resting on a plane at the same depth make runs of hundreds).
+_SHORT_RUN = 16
+#: The grid's cells are as wide as all bodies but the widest ``n // LARGE_SHARE`` (those meet the
+#: cells they cover instead), so a few large boxes among many small balls leave cells small.
+LARGE_SHARE = 32
+#: A hashed grid's buckets per body (at least; a power of two): a row of three cells then meets
+#: about ``3 / BUCKETS_PER_BODY`` bodies of other cells sharing its buckets.
+BUCKETS_PER_BODY = 8
+#: Cells per axis below which a cell's coordinates are kept in one key ``x + KEY_Y y + KEY_Z z``.
+AXIS_CELLS = 2**20
+_KEY_Y = 2**21
+_KEY_Z = 2**42
+#: Multipliers of a hashed grid's bucket ``(x + HASH_Y y + HASH_Z z) mod buckets`` (large primes,
+#: as Teschner et al. 2003; x stays in sequence, so a row of cells is a run of buckets).
+_HASH_Y = 73856093
+_HASH_Z = 19349663
+#: Knuth's multiplicative hash of a pair's key (an odd constant near 2^62 / golden ratio), kept
+#: to 62 bits so that the Python and compiled forms (unbounded and wrapping integers) agree.
+_KEY_MIX = 0x278DDE6E5FD29F05
+_LOW_62 = 2**62 - 1
+#: The tick of a contact never looked at (later than any).
+_NEVER = 2**62
 
 
 # --- state helpers ------------------------------------------------------------------------------
@@ -123,114 +161,126 @@ def _pair_e(e_a: float, e_b: float, e_default: float) -> float:
     return max(e_a, e_b)
 
 
-def _body_separation(kind: Any, pos: Any, ext: Any, a: int, b: int) -> Any:
-    """Separation of bodies ``a`` and ``b``, normal from a to b."""
-    ka = kind[a]
-    kb = kind[b]
+def _pair_sep(
+    ka: int,
+    ax: float,
+    ay: float,
+    az: float,
+    ea0: float,
+    ea1: float,
+    ea2: float,
+    kb: int,
+    bx: float,
+    by: float,
+    bz: float,
+    eb0: float,
+    eb1: float,
+    eb2: float,
+) -> Any:
+    """Separation of a body of kind ``ka`` at ``a`` (half sizes ``ea``) and one of kind ``kb`` at
+    ``b``, normal from a to b: :func:`_body_separation` on numbers (the hot loops call this; a
+    helper taking arrays costs more than the work inside)."""
     if ka <= BALL_3D and kb <= BALL_3D:
-        return gk.separation_ball_ball(
-            pos[a, 0], pos[a, 1], pos[a, 2], ext[a, 0], pos[b, 0], pos[b, 1], pos[b, 2], ext[b, 0]
+        return gk.separation_ball_ball(ax, ay, az, ea0, bx, by, bz, eb0)
+    if ka <= BALL_3D:
+        return gk.separation_ball_box(
+            ax, ay, az, ea0, bx - eb0, by - eb1, bz - eb2, bx + eb0, by + eb1, bz + eb2, 2 if ka == BALL_2D else 3
         )
-    if ka <= BALL_3D or kb <= BALL_3D:
-        ball = a if ka <= BALL_3D else b
-        box = b if ka <= BALL_3D else a
+    if kb <= BALL_3D:
         s = gk.separation_ball_box(
-            pos[ball, 0],
-            pos[ball, 1],
-            pos[ball, 2],
-            ext[ball, 0],
-            pos[box, 0] - ext[box, 0],
-            pos[box, 1] - ext[box, 1],
-            pos[box, 2] - ext[box, 2],
-            pos[box, 0] + ext[box, 0],
-            pos[box, 1] + ext[box, 1],
-            pos[box, 2] + ext[box, 2],
-            2 if kind[ball] == BALL_2D else 3,
+            bx, by, bz, eb0, ax - ea0, ay - ea1, az - ea2, ax + ea0, ay + ea1, az + ea2, 2 if kb == BALL_2D else 3
         )
-        if ball == a:
-            return s
         return (s[0], -s[1], -s[2], -s[3], s[4], s[5], s[6])
     return gk.separation_box_box(
-        pos[a, 0] - ext[a, 0],
-        pos[a, 1] - ext[a, 1],
-        pos[a, 2] - ext[a, 2],
-        pos[a, 0] + ext[a, 0],
-        pos[a, 1] + ext[a, 1],
-        pos[a, 2] + ext[a, 2],
-        pos[b, 0] - ext[b, 0],
-        pos[b, 1] - ext[b, 1],
-        pos[b, 2] - ext[b, 2],
-        pos[b, 0] + ext[b, 0],
-        pos[b, 1] + ext[b, 1],
-        pos[b, 2] + ext[b, 2],
+        ax - ea0,
+        ay - ea1,
+        az - ea2,
+        ax + ea0,
+        ay + ea1,
+        az + ea2,
+        bx - eb0,
+        by - eb1,
+        bz - eb2,
+        bx + eb0,
+        by + eb1,
+        bz + eb2,
         2 if ka == BOX_2D else 3,
     )
 
 
-def _static_separation(s_kind: Any, s_a: Any, s_b: Any, s: int, kind: Any, pos: Any, ext: Any, b: int) -> Any:
-    """Separation of static ``s`` and body ``b``, normal from the static to the body."""
-    sk = s_kind[s]
-    ball = kind[b] <= BALL_3D
+def _body_separation(kind: Any, pos: Any, ext: Any, a: int, b: int) -> Any:
+    """Separation of bodies ``a`` and ``b``, normal from a to b."""
+    return _pair_sep(
+        kind[a],
+        pos[a, 0],
+        pos[a, 1],
+        pos[a, 2],
+        ext[a, 0],
+        ext[a, 1],
+        ext[a, 2],
+        kind[b],
+        pos[b, 0],
+        pos[b, 1],
+        pos[b, 2],
+        ext[b, 0],
+        ext[b, 1],
+        ext[b, 2],
+    )
+
+
+def _static_sep(
+    sk: int,
+    ox: float,
+    oy: float,
+    oz: float,
+    ux: float,
+    uy: float,
+    uz: float,
+    kb: int,
+    bx: float,
+    by: float,
+    bz: float,
+    e0: float,
+    e1: float,
+    e2: float,
+) -> Any:
+    """Separation of a static of kind ``sk`` (a point ``o`` and unit normal ``u``, or a fixed
+    box's corners ``o``, ``u``) and a body of kind ``kb`` at ``b`` (half sizes ``e``), normal from
+    the static to the body: :func:`_static_separation` on numbers."""
+    ball = kb <= BALL_3D
     if sk == STATIC_BOX:
         if ball:
-            r = gk.separation_ball_box(
-                pos[b, 0],
-                pos[b, 1],
-                pos[b, 2],
-                ext[b, 0],
-                s_a[s, 0],
-                s_a[s, 1],
-                s_a[s, 2],
-                s_b[s, 0],
-                s_b[s, 1],
-                s_b[s, 2],
-                2 if kind[b] == BALL_2D else 3,
-            )
+            r = gk.separation_ball_box(bx, by, bz, e0, ox, oy, oz, ux, uy, uz, 2 if kb == BALL_2D else 3)
             return (r[0], -r[1], -r[2], -r[3], r[4], r[5], r[6])
         return gk.separation_box_box(
-            s_a[s, 0],
-            s_a[s, 1],
-            s_a[s, 2],
-            s_b[s, 0],
-            s_b[s, 1],
-            s_b[s, 2],
-            pos[b, 0] - ext[b, 0],
-            pos[b, 1] - ext[b, 1],
-            pos[b, 2] - ext[b, 2],
-            pos[b, 0] + ext[b, 0],
-            pos[b, 1] + ext[b, 1],
-            pos[b, 2] + ext[b, 2],
-            2 if kind[b] == BOX_2D else 3,
+            ox, oy, oz, ux, uy, uz, bx - e0, by - e1, bz - e2, bx + e0, by + e1, bz + e2, 2 if kb == BOX_2D else 3
         )
     if ball:
         if sk == STATIC_WALL:
-            return gk.separation_wall_ball(
-                s_a[s, 0],
-                s_a[s, 1],
-                s_a[s, 2],
-                s_b[s, 0],
-                s_b[s, 1],
-                s_b[s, 2],
-                pos[b, 0],
-                pos[b, 1],
-                pos[b, 2],
-                ext[b, 0],
-            )
-        return gk.separation_boundary_ball(
-            s_a[s, 0], s_a[s, 1], s_a[s, 2], s_b[s, 0], s_b[s, 1], s_b[s, 2], pos[b, 0], pos[b, 1], pos[b, 2], ext[b, 0]
-        )
-    lox = pos[b, 0] - ext[b, 0]
-    loy = pos[b, 1] - ext[b, 1]
-    loz = pos[b, 2] - ext[b, 2]
-    hix = pos[b, 0] + ext[b, 0]
-    hiy = pos[b, 1] + ext[b, 1]
-    hiz = pos[b, 2] + ext[b, 2]
+            return gk.separation_wall_ball(ox, oy, oz, ux, uy, uz, bx, by, bz, e0)
+        return gk.separation_boundary_ball(ox, oy, oz, ux, uy, uz, bx, by, bz, e0)
     if sk == STATIC_WALL:
-        return gk.separation_wall_box(
-            s_a[s, 0], s_a[s, 1], s_a[s, 2], s_b[s, 0], s_b[s, 1], s_b[s, 2], lox, loy, loz, hix, hiy, hiz
-        )
-    return gk.separation_boundary_box(
-        s_a[s, 0], s_a[s, 1], s_a[s, 2], s_b[s, 0], s_b[s, 1], s_b[s, 2], lox, loy, loz, hix, hiy, hiz
+        return gk.separation_wall_box(ox, oy, oz, ux, uy, uz, bx - e0, by - e1, bz - e2, bx + e0, by + e1, bz + e2)
+    return gk.separation_boundary_box(ox, oy, oz, ux, uy, uz, bx - e0, by - e1, bz - e2, bx + e0, by + e1, bz + e2)
+
+
+def _static_separation(s_kind: Any, s_a: Any, s_b: Any, s: int, kind: Any, pos: Any, ext: Any, b: int) -> Any:
+    """Separation of static ``s`` and body ``b``, normal from the static to the body."""
+    return _static_sep(
+        s_kind[s],
+        s_a[s, 0],
+        s_a[s, 1],
+        s_a[s, 2],
+        s_b[s, 0],
+        s_b[s, 1],
+        s_b[s, 2],
+        kind[b],
+        pos[b, 0],
+        pos[b, 1],
+        pos[b, 2],
+        ext[b, 0],
+        ext[b, 1],
+        ext[b, 2],
     )
 
 
@@ -369,15 +419,145 @@ def _store_in_cell_order(
         ids[i] = scratch_i[i, 1]
 
 
+def _body_width(ext: Any, i: int, dims: int) -> float:
+    """The widest side of body ``i``'s box: ``2 max_k e_k`` over the first ``dims`` axes."""
+    w: float = ext[i, 0]
+    for k in range(1, dims):
+        w = max(w, ext[i, k])
+    return 2.0 * w
+
+
+def _wider(e0: float, e1: float, e2: float, dims: int, half: float) -> bool:
+    """Whether a body of half sizes ``e`` is wider than ``2 half`` (``_body_width > 2 half``)."""
+    return e0 > half or e1 > half or (dims == 3 and e2 > half)
+
+
+def _grid_width(ext: Any, dims: int) -> float:
+    """The widest body the grid holds: all but the widest ``n // LARGE_SHARE`` bodies (fewer
+    when others are as wide) are at most this wide; the rest are met by the cells they cover."""
+    n = ext.shape[0]
+    widths = np.zeros(n)
+    for i in range(n):
+        widths[i] = _body_width(ext, i, dims)
+    widths = np.sort(widths)
+    return float(widths[n - 1 - min(n // LARGE_SHARE, n - 1)])
+
+
+def _grid_plan(
+    pos: Any, ext: Any, dims: int, width: float, h: float, max_cells: int, lo: Any, shape: Any
+) -> tuple[float, int]:
+    """Fill ``lo`` (lowest corner) and ``shape`` (cells per axis, 1 for a missing axis) of a grid
+    of cell side ``h`` over the bodies at most ``width`` wide, and return ``(h, buckets)``: the
+    cells themselves if there are fewer than ``max_cells`` (``buckets = 0``), else the cells
+    hashed into ``buckets``, the power of two at least ``BUCKETS_PER_BODY`` per body (Ericson
+    7.1.3): a sparse or spread-out scene keeps cells one body wide. ``h`` is doubled only while an axis would have
+    ``AXIS_CELLS`` cells or more (a cell's coordinates then fit its key)."""
+    n = pos.shape[0]
+    hi = np.zeros(3)
+    for k in range(3):
+        lo[k] = math.inf
+        hi[k] = -math.inf
+    half = 0.5 * width
+    for i in range(n):
+        if _wider(ext[i, 0], ext[i, 1], ext[i, 2], dims, half):
+            continue
+        for k in range(dims):
+            x = pos[i, k]
+            lo[k] = min(lo[k], x)
+            hi[k] = max(hi[k], x)
+    for k in range(3):
+        if k >= dims:
+            lo[k] = 0.0
+            hi[k] = 0.0
+    while True:
+        widest = 0.0
+        for k in range(dims):
+            widest = max(widest, (hi[k] - lo[k]) / h)
+        if widest < AXIS_CELLS:
+            break
+        h *= 2.0
+    cells = 1.0
+    for k in range(3):
+        shape[k] = int((hi[k] - lo[k]) / h) + 1 if k < dims else 1
+        cells *= shape[k]
+    if cells <= max_cells - 1:
+        return h, 0
+    buckets = 1
+    while buckets < BUCKETS_PER_BODY * n:
+        buckets *= 2
+    return h, buckets
+
+
+def _bucket(x: int, y: int, z: int, nx: int, ny: int, buckets: int) -> int:
+    """The bucket of cell ``(x, y, z)``: the cell's number, or hashed if ``buckets > 0``."""
+    if buckets == 0:
+        return x + nx * (y + ny * z)
+    return (x + _HASH_Y * y + _HASH_Z * z) & (buckets - 1)
+
+
+def _bucket_sort(
+    pos: Any,
+    ext: Any,
+    dims: int,
+    lo: Any,
+    h: float,
+    shape: Any,
+    width: float,
+    buckets: int,
+    cell_start: Any,
+    dest: Any,
+    key_of: Any,
+    cell_key: Any,
+) -> int:
+    """:func:`_counting_sort` on the grid of :func:`_grid_plan`: by cell, or by bucket if
+    ``buckets > 0`` (then ``cell_key[slot]`` is the cell of the body in that slot,
+    ``x + KEY_Y y + KEY_Z z``); bodies wider than ``width`` go after all the others, in one more
+    bucket. Returns how many bodies the grid holds (they come first)."""
+    n = pos.shape[0]
+    nx = shape[0]
+    ny = shape[1]
+    last = buckets if buckets > 0 else nx * ny * shape[2]
+    for c in range(last + 3):
+        cell_start[c] = 0
+    half = 0.5 * width
+    for i in range(n):
+        if _wider(ext[i, 0], ext[i, 1], ext[i, 2], dims, half):
+            c = last
+        else:
+            cx = int((pos[i, 0] - lo[0]) / h)
+            cy = int((pos[i, 1] - lo[1]) / h)
+            cz = int((pos[i, 2] - lo[2]) / h) if dims == 3 else 0
+            c = _bucket(cx, cy, cz, nx, ny, buckets)
+            key_of[i] = cx + _KEY_Y * cy + _KEY_Z * cz
+        dest[i] = c
+        cell_start[c + 2] += 1
+    for c in range(2, last + 3):
+        cell_start[c] += cell_start[c - 1]
+    for i in range(n):
+        c = dest[i]
+        d = cell_start[c + 1]
+        dest[i] = d
+        cell_start[c + 1] += 1
+        if buckets > 0:
+            cell_key[d] = key_of[i]
+    return int(cell_start[last])
+
+
 # --- phase 3: contacts --------------------------------------------------------------------------
+def _lex3(x0: float, y0: float, z0: float, x1: float, y1: float, z1: float) -> int:
+    """-1, 0 or 1 as ``(x0, y0, z0)`` is lexicographically before, equal to or after ``(x1, y1, z1)``."""
+    if x0 != x1:
+        return -1 if x0 < x1 else 1
+    if y0 != y1:
+        return -1 if y0 < y1 else 1
+    if z0 != z1:
+        return -1 if z0 < z1 else 1
+    return 0
+
+
 def _lex_cmp(pos: Any, i: int, j: int) -> int:
     """-1, 0 or 1 as ``pos[i]`` is lexicographically before, equal to or after ``pos[j]``."""
-    for k in range(3):
-        if pos[i, k] < pos[j, k]:
-            return -1
-        if pos[i, k] > pos[j, k]:
-            return 1
-    return 0
+    return _lex3(pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2])
 
 
 def _orient(ids: Any, i: int, j: int) -> bool:
@@ -424,55 +604,234 @@ def _find_contacts(
     cd: Any,
     margin: float,
 ) -> int:
-    """Every pair closer than ``margin``, bodies stored in cell order; returns how many (which may
-    exceed the buffers' capacity: the caller grows them and asks again). ``cd`` is the depth
-    (minus the separation)."""
+    """Every pair closer than ``margin``, bodies stored in cell order (the grid of
+    :func:`_grid_geometry` and :func:`_counting_sort`); returns how many (which may exceed the
+    buffers' capacity: the caller grows them and asks again). ``cd`` is the depth (minus the
+    separation)."""
+    none = np.zeros(0, np.int64)
+    return _find_pairs(
+        kind,
+        pos,
+        ext,
+        ids,
+        s_kind,
+        s_a,
+        s_b,
+        dims,
+        lo,
+        h,
+        shape,
+        0,
+        pos.shape[0],
+        cell_start,
+        stencil,
+        none,
+        ca,
+        cb,
+        cd,
+        np.zeros((0, 3)),
+        margin,
+    )
+
+
+def _find_pairs(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    ids: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    dims: int,
+    lo: Any,
+    h: float,
+    shape: Any,
+    buckets: int,
+    n_small: int,
+    cell_start: Any,
+    stencil: Any,
+    cell_key: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    cn: Any,
+    margin: float,
+) -> int:
+    """:func:`_find_contacts` on the grid of :func:`_grid_plan` and :func:`_bucket_sort`: the
+    grid's cells (or, if ``buckets > 0``, its buckets, each body's cell in ``cell_key``) hold the
+    bodies in slots ``0 : n_small``; each meets the bodies of its own cell after it and of the
+    neighbour cells in ``stencil``, a row of consecutive cells (consecutive slots) at a time. The
+    larger bodies after them each meet the grid's bodies in the cells their box, widened by 1.5
+    cells, covers (all of them if there are fewer), then the larger bodies after it. Also keeps
+    each contact's unit normal in ``cn`` (rows of three) while ``cn`` has room: the positions do
+    not change until push-apart, so the impulse sweeps read it there instead of computing the
+    separation again."""
     n = pos.shape[0]
     cap = ca.shape[0]
+    cap_n = cn.shape[0]
     nx = shape[0]
     ny = shape[1]
     nz = shape[2]
+    # The stencil as rows: runs of entries at one (dy, dz) with dx rising by one.
+    rows = np.zeros((stencil.shape[0], 4), np.int64)
+    n_rows = 0
+    for t in range(stencil.shape[0]):
+        r = n_rows - 1
+        if (
+            n_rows > 0
+            and stencil[t, 1] == rows[r, 2]
+            and stencil[t, 2] == rows[r, 3]
+            and stencil[t, 0] == rows[r, 1] + 1
+        ):
+            rows[r, 1] = stencil[t, 0]
+        else:
+            rows[n_rows, 0] = stencil[t, 0]
+            rows[n_rows, 1] = stencil[t, 0]
+            rows[n_rows, 2] = stencil[t, 1]
+            rows[n_rows, 3] = stencil[t, 2]
+            n_rows += 1
+    # Body i's candidates: runs of slots (first, end), each with the range of cell keys it may
+    # hold (hashed buckets also hold other cells' bodies; key_lo > key_hi: no filter).
+    runs = np.zeros((2 * max(n_rows, n) + 2, 4), np.int64)
     count = 0
     for i in range(n):
-        cx = int((pos[i, 0] - lo[0]) / h)
-        cy = int((pos[i, 1] - lo[1]) / h)
-        cz = int((pos[i, 2] - lo[2]) / h) if dims == 3 else 0
-        for t in range(stencil.shape[0]):
-            x2 = cx + stencil[t, 0]
-            y2 = cy + stencil[t, 1]
-            z2 = cz + stencil[t, 2]
-            if x2 < 0 or x2 >= nx or y2 < 0 or y2 >= ny or z2 < 0 or z2 >= nz:
+        n_runs = 0
+        cx = cy = cz = y_first = z_first = y_rows = 0
+        x0 = x1 = 0.0
+        if i < n_small:
+            cx = int((pos[i, 0] - lo[0]) / h)
+            cy = int((pos[i, 1] - lo[1]) / h)
+            cz = int((pos[i, 2] - lo[2]) / h) if dims == 3 else 0
+            r_end = n_rows
+        else:
+            # A larger body: a grid body within reach has its centre less than h - width / 2
+            # from the box (h / 2 more is taken, for rounding); its rows of cells, or every
+            # grid body.
+            x0 = max((pos[i, 0] - ext[i, 0] - 1.5 * h - lo[0]) / h, 0.0)
+            x1 = min((pos[i, 0] + ext[i, 0] + 1.5 * h - lo[0]) / h, nx - 1.0)
+            y0 = max((pos[i, 1] - ext[i, 1] - 1.5 * h - lo[1]) / h, 0.0)
+            y1 = min((pos[i, 1] + ext[i, 1] + 1.5 * h - lo[1]) / h, ny - 1.0)
+            z0 = max((pos[i, 2] - ext[i, 2] - 1.5 * h - lo[2]) / h, 0.0) if dims == 3 else 0.0
+            z1 = min((pos[i, 2] + ext[i, 2] + 1.5 * h - lo[2]) / h, nz - 1.0) if dims == 3 else 0.0
+            r_end = 0
+            if x0 <= x1 and y0 <= y1 and z0 <= z1:
+                y_first = int(y0)
+                z_first = int(z0)
+                y_rows = int(y1) - y_first + 1
+                r_end = y_rows * (int(z1) - z_first + 1)
+                if r_end > n_small:  # more rows of cells than grid bodies: every grid body
+                    runs[0, 0] = 0
+                    runs[0, 1] = n_small
+                    runs[0, 2] = 1
+                    runs[0, 3] = 0
+                    n_runs = 1
+                    r_end = 0
+            runs[n_runs, 0] = i + 1
+            runs[n_runs, 1] = n
+            runs[n_runs, 2] = 1
+            runs[n_runs, 3] = 0
+            n_runs += 1
+        for r in range(r_end):
+            first = -1
+            if i < n_small:
+                y2 = cy + rows[r, 2]
+                z2 = cz + rows[r, 3]
+                if y2 < 0 or y2 >= ny or z2 < 0 or z2 >= nz:
+                    continue
+                xa = max(cx + rows[r, 0], 0)
+                xb = min(cx + rows[r, 1], nx - 1)
+                if rows[r, 0] == 0 and rows[r, 2] == 0 and rows[r, 3] == 0:
+                    first = i + 1  # i's own cell: the bodies after it
+            else:
+                y2 = y_first + r % y_rows
+                z2 = z_first + r // y_rows
+                xa = int(x0)
+                xb = int(x1)
+            if xa > xb:
                 continue
-            c2 = x2 + nx * (y2 + ny * z2)
-            j0 = i + 1 if t == 0 else cell_start[c2]
-            j1 = cell_start[c2 + 1]
-            for j in range(j0, j1):
+            if buckets == 0:
+                c = xa + nx * (y2 + ny * z2)
+                runs[n_runs, 0] = first if first >= 0 else cell_start[c]
+                runs[n_runs, 1] = cell_start[c + xb - xa + 1]
+                runs[n_runs, 2] = 1
+                runs[n_runs, 3] = 0
+                n_runs += 1
+                continue
+            key_a = xa + _KEY_Y * y2 + _KEY_Z * z2
+            c = _bucket(xa, y2, z2, nx, ny, buckets)
+            end = c + xb - xa + 1
+            if end > buckets:  # the row's buckets wrap around: the tail, then the head
+                runs[n_runs, 0] = first if first >= 0 else cell_start[c]
+                runs[n_runs, 1] = cell_start[buckets]
+                runs[n_runs, 2] = key_a
+                runs[n_runs, 3] = key_a + xb - xa
+                n_runs += 1
+                c = 0
+                end -= buckets
+                first = -1
+            runs[n_runs, 0] = first if first >= 0 else cell_start[c]
+            runs[n_runs, 1] = cell_start[end]
+            runs[n_runs, 2] = key_a
+            runs[n_runs, 3] = key_a + xb - xa
+            n_runs += 1
+        px = pos[i, 0]
+        py = pos[i, 1]
+        pz = pos[i, 2]
+        ex = ext[i, 0]
+        ey = ext[i, 1]
+        ez = ext[i, 2]
+        ball = kind[i] <= BALL_3D
+        for r in range(n_runs):
+            key_lo = runs[r, 2]
+            key_hi = runs[r, 3]
+            for j in range(runs[r, 0], runs[r, 1]):
+                if key_lo <= key_hi and (cell_key[j] < key_lo or cell_key[j] > key_hi):
+                    continue
                 # The cheap reject, written out here (it runs for every candidate pair): the
                 # bounding boxes, then for two balls the squared distance of the centres.
-                dx = pos[j, 0] - pos[i, 0]
-                dy = pos[j, 1] - pos[i, 1]
-                dz = pos[j, 2] - pos[i, 2]
+                dx = pos[j, 0] - px
+                dy = pos[j, 1] - py
+                dz = pos[j, 2] - pz
                 if (
-                    abs(dx) > ext[i, 0] + ext[j, 0] + margin
-                    or abs(dy) > ext[i, 1] + ext[j, 1] + margin
-                    or abs(dz) > ext[i, 2] + ext[j, 2] + margin
+                    abs(dx) > ex + ext[j, 0] + margin
+                    or abs(dy) > ey + ext[j, 1] + margin
+                    or abs(dz) > ez + ext[j, 2] + margin
                 ):
                     continue
-                if kind[i] <= BALL_3D and kind[j] <= BALL_3D:
-                    reach = ext[i, 0] + ext[j, 0] + margin
+                if ball and kind[j] <= BALL_3D:
+                    reach = ex + ext[j, 0] + margin
                     if dx * dx + dy * dy + dz * dz > reach * reach * _WIDEN:
                         continue
                 a = i
                 b = j
-                if not _orient(ids, i, j):
+                if ids[i] >= ids[j]:  # as _orient: the body given first is A
                     a = j
                     b = i
-                sep = _body_separation(kind, pos, ext, a, b)
+                sep = _pair_sep(
+                    kind[a],
+                    pos[a, 0],
+                    pos[a, 1],
+                    pos[a, 2],
+                    ext[a, 0],
+                    ext[a, 1],
+                    ext[a, 2],
+                    kind[b],
+                    pos[b, 0],
+                    pos[b, 1],
+                    pos[b, 2],
+                    ext[b, 0],
+                    ext[b, 1],
+                    ext[b, 2],
+                )
                 if sep[0] <= margin:
                     if count < cap:
                         ca[count] = a
                         cb[count] = b
                         cd[count] = -sep[0]
+                    if count < cap_n:
+                        cn[count, 0] = sep[1]
+                        cn[count, 1] = sep[2]
+                        cn[count, 2] = sep[3]
                     count += 1
         for s in range(s_kind.shape[0]):
             if s_kind[s] != STATIC_BOX:  # a line, plane or wall: the centre's side, written out
@@ -484,14 +843,40 @@ def _find_contacts(
                 reach = abs(s_b[s, 0]) * ext[i, 0] + abs(s_b[s, 1]) * ext[i, 1] + abs(s_b[s, 2]) * ext[i, 2]
                 if (abs(side) if s_kind[s] == STATIC_BOUNDARY else side) > reach + margin:
                     continue
-            elif not _static_bounds_meet(s_kind, s_a, s_b, s, pos, ext, i, margin):
+            elif (  # a fixed box: the bounding boxes, as _static_bounds_meet
+                pos[i, 0] + ext[i, 0] + margin < s_a[s, 0]
+                or pos[i, 0] - ext[i, 0] - margin > s_b[s, 0]
+                or pos[i, 1] + ext[i, 1] + margin < s_a[s, 1]
+                or pos[i, 1] - ext[i, 1] - margin > s_b[s, 1]
+                or pos[i, 2] + ext[i, 2] + margin < s_a[s, 2]
+                or pos[i, 2] - ext[i, 2] - margin > s_b[s, 2]
+            ):
                 continue
-            sep = _static_separation(s_kind, s_a, s_b, s, kind, pos, ext, i)
+            sep = _static_sep(
+                s_kind[s],
+                s_a[s, 0],
+                s_a[s, 1],
+                s_a[s, 2],
+                s_b[s, 0],
+                s_b[s, 1],
+                s_b[s, 2],
+                kind[i],
+                pos[i, 0],
+                pos[i, 1],
+                pos[i, 2],
+                ext[i, 0],
+                ext[i, 1],
+                ext[i, 2],
+            )
             if sep[0] <= margin:
                 if count < cap:
                     ca[count] = -1 - s
                     cb[count] = i
                     cd[count] = -sep[0]
+                if count < cap_n:
+                    cn[count, 0] = sep[1]
+                    cn[count, 1] = sep[2]
+                    cn[count, 2] = sep[3]
                 count += 1
     return count
 
@@ -507,8 +892,10 @@ def _contact_cmp(pos: Any, ca: Any, cb: Any, p: int, q: int) -> int:
         return -1
     if ap < 0 and aq >= 0:
         return 1
+    bp = cb[p]
+    bq = cb[q]
     if ap < 0:
-        c = _lex_cmp(pos, cb[p], cb[q])
+        c = _lex3(pos[bp, 0], pos[bp, 1], pos[bp, 2], pos[bq, 0], pos[bq, 1], pos[bq, 2])
         if c != 0:
             return c
         if ap > aq:  # statics are -1 - s: the larger code is the lower number
@@ -516,42 +903,108 @@ def _contact_cmp(pos: Any, ca: Any, cb: Any, p: int, q: int) -> int:
         if ap < aq:
             return 1
         return 0
-    lp, hp = (ap, cb[p]) if _lex_cmp(pos, ap, cb[p]) <= 0 else (cb[p], ap)
-    lq, hq = (aq, cb[q]) if _lex_cmp(pos, aq, cb[q]) <= 0 else (cb[q], aq)
-    c = _lex_cmp(pos, lp, lq)
+    lp, hp = (
+        (ap, bp) if _lex3(pos[ap, 0], pos[ap, 1], pos[ap, 2], pos[bp, 0], pos[bp, 1], pos[bp, 2]) <= 0 else (bp, ap)
+    )
+    lq, hq = (
+        (aq, bq) if _lex3(pos[aq, 0], pos[aq, 1], pos[aq, 2], pos[bq, 0], pos[bq, 1], pos[bq, 2]) <= 0 else (bq, aq)
+    )
+    c = _lex3(pos[lp, 0], pos[lp, 1], pos[lp, 2], pos[lq, 0], pos[lq, 1], pos[lq, 2])
     if c != 0:
         return c
-    return _lex_cmp(pos, hp, hq)
+    return _lex3(pos[hp, 0], pos[hp, 1], pos[hp, 2], pos[hq, 0], pos[hq, 1], pos[hq, 2])
+
+
+def _insertion_sort(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int) -> None:
+    """Sort ``order[s:t]`` by :func:`_contact_cmp`, equal contacts by their storage index (so the
+    order the run comes in does not matter)."""
+    for u in range(s + 1, t):
+        key = order[u]
+        v = u - 1
+        while v >= s:
+            c = _contact_cmp(pos, ca, cb, key, order[v])
+            if c > 0 or (c == 0 and key > order[v]):
+                break
+            order[v + 1] = order[v]
+            v -= 1
+        order[v + 1] = key
+
+
+def _sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any) -> None:
+    """:func:`_insertion_sort` for a long run, the same order: body pairs first, each part sorted
+    by the first coordinate of the position :func:`_contact_cmp` compares first (the lower
+    body's, or the body's), then the rare runs of equal first coordinates by
+    :func:`_insertion_sort`."""
+    k = s
+    for u in range(s, t):
+        if ca[order[u]] >= 0:
+            spare[k] = order[u]
+            k += 1
+    middle = k
+    for u in range(s, t):
+        if ca[order[u]] < 0:
+            spare[k] = order[u]
+            k += 1
+    for u in range(s, t):
+        order[u] = spare[u]
+    for part in range(2):
+        u0 = s if part == 0 else middle
+        u1 = middle if part == 0 else t
+        if u1 - u0 < 2:
+            continue
+        first = np.empty(u1 - u0)
+        for u in range(u0, u1):
+            a = ca[order[u]]
+            b = cb[order[u]]
+            low = a if a >= 0 and _lex3(pos[a, 0], pos[a, 1], pos[a, 2], pos[b, 0], pos[b, 1], pos[b, 2]) <= 0 else b
+            first[u - u0] = pos[low, 0]
+        rank = np.argsort(first)
+        for u in range(u0, u1):
+            spare[u] = order[u0 + rank[u - u0]]
+        for u in range(u0, u1):
+            order[u] = spare[u]
+        v = 0
+        while v < u1 - u0:
+            w = v + 1
+            while w < u1 - u0 and first[rank[w]] == first[rank[v]]:
+                w += 1
+            if w - v > 1:
+                _insertion_sort(pos, ca, cb, order, u0 + v, u0 + w)
+            v = w
 
 
 def _order_contacts(pos: Any, ca: Any, cb: Any, cd: Any, count: int) -> Any:
-    """Contacts deepest first; runs of equal depth sorted by :func:`_contact_cmp`."""
-    order = np.argsort(-cd[:count], kind="mergesort")
+    """Contacts deepest first; runs of equal depth sorted by :func:`_contact_cmp`, then by storage
+    index (as a stable sort of the depths would leave them): by insertion, or :func:`_sort_run`
+    for runs longer than ``_SHORT_RUN``, as resting contacts make. Every step of it may sort
+    unstably: the order is total."""
+    order = np.argsort(-cd[:count])
+    spare = np.empty(count, np.int64)
     s = 0
     while s < count:
         t = s + 1
         while t < count and cd[order[t]] == cd[order[s]]:
             t += 1
-        for u in range(s + 1, t):  # insertion sort: ties are rare and short
-            key = order[u]
-            v = u - 1
-            while v >= s and _contact_cmp(pos, ca, cb, key, order[v]) < 0:
-                order[v + 1] = order[v]
-                v -= 1
-            order[v + 1] = key
+        if t - s > _SHORT_RUN:
+            _sort_run(pos, ca, cb, order, s, t, spare)
+        elif t - s > 1:
+            _insertion_sort(pos, ca, cb, order, s, t)
         s = t
     return order
 
 
 # --- touching memory ----------------------------------------------------------------------------
-def _pair_key(ca: Any, cb: Any, ids: Any, n: int, c: int) -> int:
-    """A key for a contact that does not depend on storage: ids for bodies, ``n + s`` for statics."""
-    a = ca[c]
-    ka = ids[a] if a >= 0 else n + (-1 - a)
-    kb = ids[cb[c]]
+def _key_of(ka: int, kb: int, n: int) -> int:
+    """The key of the pair of ids (or ``n + s`` for static ``s``) ``ka`` and ``kb``."""
     low = min(ka, kb)
     high = max(ka, kb)
     return int(low) * (n + 1_000_000) + int(high)
+
+
+def _pair_key(ca: Any, cb: Any, ids: Any, n: int, c: int) -> int:
+    """A key for a contact that does not depend on storage: ids for bodies, ``n + s`` for statics."""
+    a = ca[c]
+    return _key_of(ids[a] if a >= 0 else n + (-1 - a), ids[cb[c]], n)
 
 
 def _contains(sorted_keys: Any, count: int, key: int) -> bool:
@@ -564,6 +1017,34 @@ def _contains(sorted_keys: Any, count: int, key: int) -> bool:
         else:
             hi = mid
     return lo < count and sorted_keys[lo] == key
+
+
+def _mark_touching(
+    touch_keys: Any, kept: int, table: Any, ca: Any, cb: Any, ids: Any, n: int, count: int, touching: Any
+) -> None:
+    """``touching[c] = 1`` for each contact whose key (:func:`_pair_key`) is among
+    ``touch_keys[:kept]`` (in any order): they go into the hash table ``table`` (open addressing,
+    a power of two at least twice ``kept`` long, -1 where empty; Knuth's multiplicative hash),
+    which each contact then looks up."""
+    size = table.shape[0]
+    shift = 62
+    while (1 << (62 - shift)) < size:
+        shift -= 1
+    for u in range(size):
+        table[u] = -1
+    for u in range(kept):
+        key = int(touch_keys[u])
+        slot = ((key * _KEY_MIX) & _LOW_62) >> shift
+        while table[slot] >= 0:
+            slot = (slot + 1) & (size - 1)
+        table[slot] = key
+    for c in range(count):
+        a = ca[c]
+        key = _key_of(ids[a] if a >= 0 else n + (-1 - a), ids[cb[c]], n)
+        slot = ((key * _KEY_MIX) & _LOW_62) >> shift
+        while table[slot] >= 0 and table[slot] != key:
+            slot = (slot + 1) & (size - 1)
+        touching[c] = 1 if table[slot] == key else 0
 
 
 # --- phases 5 and 6: impulses and push-apart ----------------------------------------------------
@@ -623,8 +1104,11 @@ def _impulses(
     ca: Any,
     cb: Any,
     cd: Any,
-    order: Any,
+    cn: Any,
     touching: Any,
+    seen: Any,
+    changed: Any,
+    clock: int,
     e_default: float,
     rest_speed: float,
     gravity: Any,
@@ -638,35 +1122,49 @@ def _impulses(
     event_count: Any,
     ledger: Any,
 ) -> Any:
-    """One pass of impulses over the contacts in ``order``; returns the event buffer (grown if it
-    had to be). ``event_count[1]`` counts the impulses this pass applied."""
+    """One pass of impulses over the contacts, stored in the order they are resolved, each along
+    its normal ``cn`` (found with the contacts: positions do not change while impulses are
+    applied); returns the event buffer (grown if it had to be). ``event_count[1]`` counts the
+    impulses this pass applied.
+
+    After the first pass a contact is looked at again only if the velocity of one of its bodies
+    changed since it was last looked at: ``changed[body]`` is the tick of the body's last impulse,
+    ``seen[c]`` that of the contact's last look (``_NEVER`` if none), and contact ``c`` looks at
+    tick ``clock + c`` in this pass (ticks only grow). Its result could not differ from the last
+    one, which applied nothing (an impulse changes the pair's own velocities), so skipping it
+    changes no number."""
     before = np.zeros(6)
-    for t in range(order.shape[0]):
-        c = order[t]
+    for c in range(cd.shape[0]):
+        b = cb[c]
+        if not first_pass and changed[b] < seen[c]:
+            a = ca[c]
+            if a < 0 or changed[a] < seen[c]:
+                continue  # neither velocity changed since this contact was last looked at
         if cd[c] < 0.0 and (touching[c] == 0 or cd[c] < -solver_margin):
             # Apart: a new impact needs contact (lab eqs. 2, 7, 9); a pair already in contact
             # keeps its impulses within solver_margin, so a resting stack stays supported.
             continue
         a = ca[c]
-        b = cb[c]
         ima_a = ima[a] if a >= 0 else 0.0
         inv_sum = ima_a + ima[b]
         if inv_sum == 0.0:
             continue
-        sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-        nx = sep[1]
-        ny = sep[2]
-        nz = sep[3]
+        tick = clock + c
+        seen[c] = tick
+        nx = cn[c, 0]
+        ny = cn[c, 1]
+        nz = cn[c, 2]
         vax = vel[a, 0] if a >= 0 else 0.0
         vay = vel[a, 1] if a >= 0 else 0.0
         vaz = vel[a, 2] if a >= 0 else 0.0
         vn = (vel[b, 0] - vax) * nx + (vel[b, 1] - vay) * ny + (vel[b, 2] - vaz) * nz
         id_a = ids[a] if a >= 0 else a
         if vn >= 0.0:
-            if record and first_pass and touching[c] == 0 and sep[0] <= 0.0:
+            if record and first_pass and touching[c] == 0 and cd[c] >= 0.0:
                 for k in range(6):
                     before[k] = 0.0
                 code = EVENT_SKIPPED
+                sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                 events = _write_event(
                     events, event_count[0], code, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
                 )
@@ -707,12 +1205,14 @@ def _impulses(
             vel[a, 1] = vay - ny * ja
             vel[a, 2] = vaz - nz * ja
             kinetic_after += (vel[a, 0] * vel[a, 0] + vel[a, 1] * vel[a, 1] + vel[a, 2] * vel[a, 2]) / ima_a
+            changed[a] = tick
         if ima[b] > 0.0:
             kinetic_before += (before[3] * before[3] + before[4] * before[4] + before[5] * before[5]) / ima[b]
             vel[b, 0] = before[3] + nx * jb
             vel[b, 1] = before[4] + ny * jb
             vel[b, 2] = before[5] + nz * jb
             kinetic_after += (vel[b, 0] * vel[b, 0] + vel[b, 1] * vel[b, 1] + vel[b, 2] * vel[b, 2]) / ima[b]
+            changed[b] = tick
         ledger[1] += 0.5 * (kinetic_after - kinetic_before)
         ledger[3] -= 0.5 * (1.0 - e * e) * vn * vn / inv_sum
         if a >= 0:
@@ -723,6 +1223,7 @@ def _impulses(
         if touching[c] == 0:
             touching[c] = 1
             if record and -vn >= resting:
+                sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                 events = _write_event(
                     events,
                     event_count[0],
@@ -796,6 +1297,130 @@ def _push_apart(
     return moves
 
 
+def _push_sweep(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    ima: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    cn: Any,
+    seen: Any,
+    moved: Any,
+    found: int,
+    clock: int,
+    first_pass: bool,
+    gravity: Any,
+    slop: float,
+    solver_margin: float,
+    ledger: Any,
+) -> int:
+    """:func:`_push_apart`'s pass over the contacts, stored in the order they are resolved,
+    looking at a contact only when it could move something: in the first pass every contact;
+    after it only those one of whose bodies moved since the contact was last looked at
+    (``moved[body]`` against ``seen[c]``, ticks as in :func:`_impulses`: contact ``c`` looks at
+    tick ``clock + c``). A contact neither of whose bodies moved since tick ``found`` (when the
+    contacts were found) takes its separation from there (``-cd``, ``cn``). Either way the same
+    numbers as :func:`_push_apart`. Returns the moves."""
+    moves = 0
+    for c in range(cd.shape[0]):
+        if cd[c] < -solver_margin:
+            continue
+        a = ca[c]
+        b = cb[c]
+        ima_a = ima[a] if a >= 0 else 0.0
+        inv_sum = ima_a + ima[b]
+        if inv_sum == 0.0:
+            continue
+        last = moved[b]
+        if a >= 0 and moved[a] > last:
+            last = moved[a]
+        if not first_pass and last < seen[c]:
+            continue  # neither body moved since this contact was last looked at
+        tick = clock + c
+        seen[c] = tick
+        if last < found:  # where it was found: the separation is the one found then
+            gap = -cd[c]
+            nx = cn[c, 0]
+            ny = cn[c, 1]
+            nz = cn[c, 2]
+        else:
+            if a >= 0:
+                sep = _pair_sep(
+                    kind[a],
+                    pos[a, 0],
+                    pos[a, 1],
+                    pos[a, 2],
+                    ext[a, 0],
+                    ext[a, 1],
+                    ext[a, 2],
+                    kind[b],
+                    pos[b, 0],
+                    pos[b, 1],
+                    pos[b, 2],
+                    ext[b, 0],
+                    ext[b, 1],
+                    ext[b, 2],
+                )
+            else:
+                sep = _static_sep(
+                    s_kind[-1 - a],
+                    s_a[-1 - a, 0],
+                    s_a[-1 - a, 1],
+                    s_a[-1 - a, 2],
+                    s_b[-1 - a, 0],
+                    s_b[-1 - a, 1],
+                    s_b[-1 - a, 2],
+                    kind[b],
+                    pos[b, 0],
+                    pos[b, 1],
+                    pos[b, 2],
+                    ext[b, 0],
+                    ext[b, 1],
+                    ext[b, 2],
+                )
+            gap = sep[0]
+            nx = sep[1]
+            ny = sep[2]
+            nz = sep[3]
+        if gap >= 0.0:  # touching is not overlapping: nothing to undo
+            continue
+        # As _push_apart, written out.
+        ledger[4] = max(ledger[4], -gap)
+        push = slop - gap
+        sa = push * ima_a / inv_sum
+        sb = push * ima[b] / inv_sum
+        change = 0.0
+        if a >= 0 and ima_a > 0.0:
+            pos[a, 0] = pos[a, 0] - nx * sa
+            change += gravity[0] * nx * sa / ima_a
+        pos[b, 0] = pos[b, 0] + nx * sb
+        if ima[b] > 0.0:
+            change -= gravity[0] * nx * sb / ima[b]
+        if a >= 0 and ima_a > 0.0:
+            pos[a, 1] = pos[a, 1] - ny * sa
+            change += gravity[1] * ny * sa / ima_a
+        pos[b, 1] = pos[b, 1] + ny * sb
+        if ima[b] > 0.0:
+            change -= gravity[1] * ny * sb / ima[b]
+        if a >= 0 and ima_a > 0.0:
+            pos[a, 2] = pos[a, 2] - nz * sa
+            change += gravity[2] * nz * sa / ima_a
+        pos[b, 2] = pos[b, 2] + nz * sb
+        if ima[b] > 0.0:
+            change -= gravity[2] * nz * sb / ima[b]
+        ledger[2] += change
+        if a >= 0:
+            moved[a] = tick
+        moved[b] = tick
+        moves += 1
+    return moves
+
+
 def _clamp_to_walls(
     kind: Any,
     pos: Any,
@@ -860,7 +1485,6 @@ def run_steps(
     contact_margin: float,
     rest_speed: float,
     passes: int,
-    min_cell: float,
     first_step: int,
     steps: int,
     record: bool,
@@ -875,28 +1499,65 @@ def run_steps(
 ) -> Any:
     """Advance ``steps`` steps in place (the module docstring's order). The state is re-sorted by
     cell each step and ``ids`` follows the bodies; ``scratch_f`` ``(n, 11)`` and ``scratch_i``
-    ``(n, 2)`` are scratch space. ``touch_keys[:touch_count[0]]`` (sorted) are the pairs in
-    contact, carried from step to step. Returns the buffers ``(touch_keys, ca, cb, cd, events)``,
-    grown if they had to be; ``event_count[0]`` counts the event rows written."""
+    ``(n, 2)`` are scratch space. ``touch_keys[:touch_count[0]]`` (keys of :func:`_pair_key`, in
+    no order) are the pairs in contact, carried from step to step. A hashed grid's buckets
+    (``BUCKETS_PER_BODY`` per body) are held only while the call runs. Returns the buffers
+    ``(touch_keys, ca, cb, cd, events)``, grown if they had to be; ``event_count[0]`` counts the
+    event rows written."""
     n = pos.shape[0]
     max_cells = cell_start.shape[0] - 2
     lo = np.zeros(3)
     shape = np.zeros(3, np.int64)
+    cn = np.zeros((ca.shape[0], 3))  # each contact's normal, kept while positions stay
+    width = _grid_width(ext, dims)  # the widest body in the grid; wider ones are met apart
+    key_of = np.zeros(n, np.int64)
+    cell_key = np.zeros(n, np.int64)
+    hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
+    # Ticks of the sweeps (see _impulses): a body's last velocity change, its last move; they
+    # only grow, so values from earlier steps (other bodies, after the re-sort) are all older.
+    table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
+    changed = np.full(n, -1, np.int64)
+    moved = np.full(n, -1, np.int64)
+    clock = 0
     for step in range(first_step, first_step + steps):
         time = (step + 1) * dt  # the time at the end of this step, when its contacts are resolved
         _integrate(pos, vel, ima, gravity, dt, ledger)
         # Sort the state by cell (Ericson 7.1.3): the pair search then reads memory in sequence.
-        h = _grid_geometry(pos, dims, min_cell, max_cells, lo, shape)
-        _counting_sort(pos, dims, lo, h, shape, cell_start, dest)
+        h, buckets = _grid_plan(pos, ext, dims, width, width + contact_margin, max_cells, lo, shape)
+        if buckets > 0 and hashed.shape[0] < buckets + 3:
+            hashed = np.zeros(buckets + 3, np.int64)
+        starts = hashed if buckets > 0 else cell_start
+        n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
         _store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
-        count = _find_contacts(
-            kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, contact_margin
+        count = _find_pairs(
+            kind,
+            pos,
+            ext,
+            ids,
+            s_kind,
+            s_a,
+            s_b,
+            dims,
+            lo,
+            h,
+            shape,
+            buckets,
+            n_small,
+            starts,
+            stencil,
+            cell_key,
+            ca,
+            cb,
+            cd,
+            cn,
+            contact_margin,
         )
         if count > ca.shape[0]:
             ca = np.zeros(2 * count, np.int64)
             cb = np.zeros(2 * count, np.int64)
             cd = np.zeros(2 * count)
-            _find_contacts(
+            cn = np.zeros((2 * count, 3))
+            _find_pairs(
                 kind,
                 pos,
                 ext,
@@ -908,18 +1569,28 @@ def run_steps(
                 lo,
                 h,
                 shape,
-                cell_start,
+                buckets,
+                n_small,
+                starts,
                 stencil,
+                cell_key,
                 ca,
                 cb,
                 cd,
+                cn,
                 contact_margin,
             )
         order = _order_contacts(pos, ca, cb, cd, count)
+        # The contacts in that order, so that the sweeps read them in sequence.
+        oa = ca[order]
+        ob = cb[order]
+        od = cd[order]
+        on = cn[order]
         touching = np.zeros(count, np.int8)
-        for c in range(count):
-            if _contains(touch_keys, touch_count[0], _pair_key(ca, cb, ids, n, c)):
-                touching[c] = 1
+        while table.shape[0] < 2 * touch_count[0]:
+            table = np.zeros(2 * table.shape[0], np.int64)
+        _mark_touching(touch_keys, touch_count[0], table, oa, ob, ids, n, count, touching)
+        seen = np.full(count, _NEVER, np.int64)
         for p in range(passes):
             event_count[1] = 0
             events = _impulses(
@@ -934,11 +1605,14 @@ def run_steps(
                 s_a,
                 s_b,
                 s_e,
-                ca,
-                cb,
-                cd,
-                order,
+                oa,
+                ob,
+                od,
+                on,
                 touching,
+                seen,
+                changed,
+                clock,
                 e_default,
                 rest_speed,
                 gravity,
@@ -952,26 +1626,46 @@ def run_steps(
                 event_count,
                 ledger,
             )
+            clock += count
             if event_count[1] == 0:
                 break
-        for _ in range(passes):
-            if (
-                _push_apart(
-                    kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, order, gravity, slop, solver_margin, ledger
-                )
-                == 0
-            ):
+        found = clock
+        for p in range(passes):
+            moves = _push_sweep(
+                kind,
+                pos,
+                ext,
+                ima,
+                s_kind,
+                s_a,
+                s_b,
+                oa,
+                ob,
+                od,
+                on,
+                seen,
+                moved,
+                found,
+                clock,
+                p == 0,
+                gravity,
+                slop,
+                solver_margin,
+                ledger,
+            )
+            clock += count
+            if moves == 0:
                 break
-        _clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
+        _clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, oa, ob, count, gravity, slop, ledger)
         # The pairs now in contact: near this step and already touching, or newly hit.
         kept = 0
         if count > touch_keys.shape[0]:
             touch_keys = np.zeros(2 * count, np.int64)
         for c in range(count):
             if touching[c] == 1:
-                touch_keys[kept] = _pair_key(ca, cb, ids, n, c)
+                a = oa[c]
+                touch_keys[kept] = _key_of(ids[a] if a >= 0 else n + (-1 - a), ids[ob[c]], n)
                 kept += 1
-        touch_keys[:kept] = np.sort(touch_keys[:kept])
         touch_count[0] = kept
     return touch_keys, ca, cb, cd, events
 
@@ -991,14 +1685,20 @@ def find_near(
     margin: float,
 ) -> Any:
     """Every pair closer than ``margin`` now, as rows ``(A, B)`` of ids (a static is ``-1 - s``)
-    and their depths, without changing the state (the grid works on sorted copies)."""
+    and their depths, without changing the state (the grid of :func:`run_steps`, on sorted
+    copies; cells of ``min_cell`` if the bodies have no size and ``margin`` is 0)."""
     n = pos.shape[0]
     lo = np.zeros(3)
     shape = np.zeros(3, np.int64)
-    h = _grid_geometry(pos, dims, min_cell, max_cells, lo, shape)
-    cell_start = np.zeros(max_cells + 2, np.int64)
+    width = _grid_width(ext, dims)
+    h, buckets = _grid_plan(
+        pos, ext, dims, width, width + margin if width + margin > 0.0 else min_cell, max_cells, lo, shape
+    )
+    starts = np.zeros((buckets if buckets > 0 else max_cells) + 3, np.int64)
     dest = np.zeros(n, np.int64)
-    _counting_sort(pos, dims, lo, h, shape, cell_start, dest)
+    key_of = np.zeros(n, np.int64)
+    cell_key = np.zeros(n, np.int64)
+    n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
     spos = np.zeros_like(pos)
     sext = np.zeros_like(ext)
     skind = np.zeros_like(kind)
@@ -1011,15 +1711,56 @@ def find_near(
     ca = np.zeros(cap, np.int64)
     cb = np.zeros(cap, np.int64)
     cd = np.zeros(cap)
-    count = _find_contacts(
-        skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, margin
+    no_normals = np.zeros((0, 3))
+    count = _find_pairs(
+        skind,
+        spos,
+        sext,
+        sids,
+        s_kind,
+        s_a,
+        s_b,
+        dims,
+        lo,
+        h,
+        shape,
+        buckets,
+        n_small,
+        starts,
+        stencil,
+        cell_key,
+        ca,
+        cb,
+        cd,
+        no_normals,
+        margin,
     )
     if count > cap:
         ca = np.zeros(count, np.int64)
         cb = np.zeros(count, np.int64)
         cd = np.zeros(count)
-        _find_contacts(
-            skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, margin
+        _find_pairs(
+            skind,
+            spos,
+            sext,
+            sids,
+            s_kind,
+            s_a,
+            s_b,
+            dims,
+            lo,
+            h,
+            shape,
+            buckets,
+            n_small,
+            starts,
+            stencil,
+            cell_key,
+            ca,
+            cb,
+            cd,
+            no_normals,
+            margin,
         )
     pairs = np.zeros((count, 2), np.int64)
     for t in range(count):

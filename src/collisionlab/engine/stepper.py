@@ -121,7 +121,6 @@ class EulerStepper:
             p.contact_margin,
             p.rest_speed if self.gravity.any() else 0.0,  # without gravity nothing rests
             p.passes,
-            self.min_cell,
             first_step,
             steps,
             self.record_events,
