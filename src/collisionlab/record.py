@@ -58,9 +58,9 @@ class FrameBodies(BuiltSequence[BodyState]):
     from the arrays (:meth:`Frame.to_dict`, the table and CSV writers) without making millions of
     vectors. Equal to any sequence of the same body states.
 
-    >>> bodies = FrameBodies(("a",), np.array([[1.0, -0.0, 0.0]]), np.zeros((1, 3)))
-    >>> bodies[0].position, bodies == (BodyState("a", Vector3D(1, 0, 0), Vector3D(0, 0, 0)),)
-    (Vector3D(x=1.0, y=-0.0, z=0.0), True)
+    >>> bodies = FrameBodies(("a",), np.array([[1.0, 2.0, 0.0]]), np.zeros((1, 3)))
+    >>> bodies[0].position, bodies == (BodyState("a", Vector3D(1, 2, 0), Vector3D(0, 0, 0)),)
+    (Vector3D(x=1.0, y=2.0, z=0.0), True)
     """
 
     def __init__(self, names: Sequence[str], positions: NDArray[np.float64], velocities: NDArray[np.float64]) -> None:

@@ -1529,57 +1529,17 @@ def run_steps(
         starts = hashed if buckets > 0 else cell_start
         n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
         _store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
-        count = _find_pairs(
-            kind,
-            pos,
-            ext,
-            ids,
-            s_kind,
-            s_a,
-            s_b,
-            dims,
-            lo,
-            h,
-            shape,
-            buckets,
-            n_small,
-            starts,
-            stencil,
-            cell_key,
-            ca,
-            cb,
-            cd,
-            cn,
-            contact_margin,
-        )
-        if count > ca.shape[0]:
+        while True:  # listed again, into arrays twice as large, when they were too small
+            count = _find_pairs(
+                kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
+                cell_key, ca, cb, cd, cn, contact_margin,
+            )  # fmt: skip
+            if count <= ca.shape[0]:
+                break
             ca = np.zeros(2 * count, np.int64)
             cb = np.zeros(2 * count, np.int64)
             cd = np.zeros(2 * count)
             cn = np.zeros((2 * count, 3))
-            _find_pairs(
-                kind,
-                pos,
-                ext,
-                ids,
-                s_kind,
-                s_a,
-                s_b,
-                dims,
-                lo,
-                h,
-                shape,
-                buckets,
-                n_small,
-                starts,
-                stencil,
-                cell_key,
-                ca,
-                cb,
-                cd,
-                cn,
-                contact_margin,
-            )
         order = _order_contacts(pos, ca, cb, cd, count)
         # The contacts in that order, so that the sweeps read them in sequence.
         oa = ca[order]
