@@ -21,9 +21,10 @@ speed (each component)      ``<= 1e9`` m/s       ``m v^2`` stays below 1e50 J
 gravity (each component)    ``<= 1e9`` m/s^2
 mass                        ``1e-30 .. 1e30`` kg  or ``inf``: a kinematic body
 dt                          ``1e-9 .. 1e6`` s
-kept frames x moving bodies ``<= 2e6``           a run keeps a frame every ``every`` steps:
-                                                 0.40-0.46 kB per body and frame (measured),
-                                                 so at most ~1 GB
+kept frames x moving bodies ``<= 2e6``           a run kept whole (pictures) holds a frame
+                                                 every ``every`` steps: 0.40-0.46 kB per body
+                                                 and frame (measured), so at most ~1 GB; a
+                                                 table, CSV or JSON streams them (no bound)
 restitution                 ``0 .. 10``
 exact mode: travel per      ``<= 1e6`` x the     time of impact resolves a touch to about
 step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the distance
