@@ -7,20 +7,33 @@ Two bodies not on each other's lists are then always more than ``P_CUT - 2 P_SKI
 apart: they cannot collide, and only neighbours are ever tested.
 
 Building one list looks through the 3^dim cells around the body's centre (cells at least
-``P_CUT`` wide, each a doubly linked list of the bodies whose centre lies in it), so it costs
-O(1) per body; the lists are kept symmetric (``j`` on ``i``'s list iff ``i`` on ``j``'s).
-With periodic walls, distances are taken to the nearest image; the box is required to be at
-least four diameters wide so that the nearest image is unique for every neighbour.
+``P_CUT`` wide), so it costs O(1) per body; the lists are kept symmetric (``j`` on ``i``'s list
+iff ``i`` on ``j``'s). With periodic walls, distances are taken to the nearest image; the box is
+required to be at least four diameters wide so that the nearest image is unique for every
+neighbour.
+
+A cell is one row of ``CI`` (int32, shape ``(cells, slots, 4)``): slot 0 holds the number of
+bodies in it, slots ``1 .. count`` one body each, its list centre as three float32 (read through
+``CF``, a float32 view of the same memory) and its index. Looking through a cell thus reads a
+few consecutive bytes, not one row of ``F`` per body, and no chain of links (with a million
+bodies each of those was a cache miss, one after the other). The float32 centres are rounded,
+by less than a margin (``P_REACH - P_CUT``): a distance within the margin of ``P_CUT`` is taken
+again from the float64 centres of ``F``, so a list holds exactly the bodies within ``P_CUT``.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from .compile import jit, jit_inline
-from .layout import CELL, CNEXT, CPREV, EDGE, NNB, P_CUT, P_INV_H, P_L, Q_DIM, Q_NC, Q_PERIODIC, C, X
+from .compile import jit, jit_inline, prefetch
+from .layout import CELL, EDGE, NNB, P_CUT, P_INV_H, P_L, P_REACH, Q_DIM, Q_NC, Q_PERIODIC, C, X
 
-__all__ = ["build_all_lists", "nearest_image", "rebuild_list"]
+__all__ = ["CELL_FULL", "LIST_FULL", "build_all_lists", "fetch_cells", "nearest_image", "rebuild_list"]
+
+#: Status of a (re)build: a neighbour list is full (the caller widens ``NB``), a cell is full
+#: (the caller widens ``CI``); both then build every list again. 0: done.
+LIST_FULL = 3
+CELL_FULL = 4
 
 
 @jit_inline
@@ -38,17 +51,22 @@ def nearest_image(d: float, side: float) -> float:
 
 
 @jit_inline
+def _axis_of(x: float, inv_h: float, nc: int) -> int:
+    c = int(x * inv_h)
+    if c < 0:
+        return 0
+    if c >= nc:
+        return nc - 1
+    return c
+
+
+@jit_inline
 def _cell_of(F: Any, P: Any, Q: Any, i: int) -> int:
     cell = 0
     stride = 1
     for k in range(Q[Q_DIM]):
         nc = Q[Q_NC + k]
-        c = int(F[i, C + k] * P[P_INV_H + k])
-        if c < 0:
-            c = 0
-        elif c >= nc:
-            c = nc - 1
-        cell += c * stride
+        cell += _axis_of(F[i, C + k], P[P_INV_H + k], nc) * stride
         stride *= nc
     return cell
 
@@ -59,7 +77,12 @@ def _axis_cell(c: int, o: int, nc: int, periodic: bool) -> int:
     already visited when fewer than three wrap round)."""
     if periodic:
         if nc >= 3:
-            return (c + o - 1 + nc) % nc
+            c2 = c + o - 1
+            if c2 < 0:
+                return c2 + nc
+            if c2 >= nc:
+                return c2 - nc
+            return c2
         return o if o < nc else -1
     c2 = c + o - 1
     return c2 if 0 <= c2 < nc else -1
@@ -81,28 +104,42 @@ def _on_edge(P: Any, Q: Any, cell: int) -> int:
 
 
 @jit_inline
-def _put_in_cell(F: Any, IX: Any, P: Any, Q: Any, heads: Any, i: int) -> None:
+def _put_in_cell(F: Any, IX: Any, P: Any, Q: Any, CI: Any, CF: Any, i: int) -> bool:
+    """Body ``i`` into the cell of its centre (False if that cell is full)."""
     cell = _cell_of(F, P, Q, i)
-    IX[i, EDGE] = _on_edge(P, Q, cell)
-    head = heads[cell]
+    count = CI[cell, 0, 0] + 1
+    if count >= CI.shape[1]:
+        return False
+    CI[cell, 0, 0] = count
+    CF[cell, count, 0] = F[i, C]
+    CF[cell, count, 1] = F[i, C + 1]
+    CF[cell, count, 2] = F[i, C + 2]
+    CI[cell, count, 3] = i
     IX[i, CELL] = cell
-    IX[i, CNEXT] = head
-    IX[i, CPREV] = -1
-    if head >= 0:
-        IX[head, CPREV] = i
-    heads[cell] = i
+    IX[i, EDGE] = _on_edge(P, Q, cell)
+    return True
 
 
 @jit_inline
-def _take_from_cell(IX: Any, heads: Any, i: int) -> None:
-    prev = IX[i, CPREV]
-    nxt = IX[i, CNEXT]
-    if prev >= 0:
-        IX[prev, CNEXT] = nxt
-    else:
-        heads[IX[i, CELL]] = nxt
-    if nxt >= 0:
-        IX[nxt, CPREV] = prev
+def _take_from_cell(IX: Any, CI: Any, i: int) -> None:
+    """Body ``i`` out of its cell: the cell's last body takes its slot."""
+    cell = IX[i, CELL]
+    last = CI[cell, 0, 0]
+    for s in range(1, last + 1):
+        if CI[cell, s, 3] == i:
+            for k in range(4):
+                CI[cell, s, k] = CI[cell, last, k]
+            break
+    CI[cell, 0, 0] = last - 1
+
+
+@jit_inline
+def _into_box(x: float, side: float) -> float:
+    if x >= side:
+        return x - side
+    if x < 0.0:
+        return x + side
+    return x
 
 
 @jit_inline
@@ -111,22 +148,65 @@ def _set_centre(F: Any, P: Any, Q: Any, i: int) -> None:
     for k in range(Q[Q_DIM]):
         x = F[i, X + k]
         if Q[Q_PERIODIC] != 0:
-            side = P[P_L + k]
-            if x >= side:
-                x -= side
-            elif x < 0.0:
-                x += side
+            x = _into_box(x, P[P_L + k])
             F[i, X + k] = x
         F[i, C + k] = x
 
 
-@jit
-def _link_neighbours(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int, later_only: bool) -> bool:
-    """Put on ``i``'s list (and ``i`` on theirs) every body within the reach of its centre;
-    ``later_only``: only bodies ``j > i`` (building every list at once). False if a list is full."""
-    dim = Q[Q_DIM]
+@jit_inline
+def fetch_cells(P: Any, Q: Any, CI: Any, x: float, y: float, z: float) -> None:
+    """Prefetch the first line of each cell around the point ``(x, y, z)``: where a body about to
+    rebuild its list will look (see ``loop._fetch_ahead``)."""
     periodic = Q[Q_PERIODIC] != 0
+    nc0 = Q[Q_NC]
+    nc1 = Q[Q_NC + 1]
+    nc2 = Q[Q_NC + 2]
+    if periodic:
+        x = _into_box(x, P[P_L])
+        y = _into_box(y, P[P_L + 1])
+        z = _into_box(z, P[P_L + 2])
+    c0 = _axis_of(x, P[P_INV_H], nc0)
+    c1 = _axis_of(y, P[P_INV_H + 1], nc1)
+    c2 = _axis_of(z, P[P_INV_H + 2], nc2)
+    for o2 in range(3):
+        a2 = _axis_cell(c2, o2, nc2, periodic)
+        if a2 < 0:
+            continue
+        for o1 in range(3):
+            a1 = _axis_cell(c1, o1, nc1, periodic)
+            if a1 < 0:
+                continue
+            for o0 in range(3):
+                a0 = _axis_cell(c0, o0, nc0, periodic)
+                if a0 >= 0:
+                    prefetch(CI[a0 + nc0 * (a1 + nc1 * a2)], 0, 0)
+
+
+@jit_inline
+def _exact_distance2(F: Any, P: Any, wrap: bool, dim: int, i: int, j: int) -> float:
+    """The squared distance of ``i``'s and ``j``'s list centres, from ``F`` (float64)."""
+    dx: float = F[i, C] - F[j, C]
+    dy: float = F[i, C + 1] - F[j, C + 1]
+    dz: float = F[i, C + 2] - F[j, C + 2]
+    if wrap:
+        dx = nearest_image(dx, P[P_L])
+        dy = nearest_image(dy, P[P_L + 1])
+        if dim == 3:
+            dz = nearest_image(dz, P[P_L + 2])
+    return dx * dx + dy * dy + dz * dz
+
+
+@jit
+def _link_neighbours(F: Any, IX: Any, NB: Any, P: Any, Q: Any, CI: Any, CF: Any, i: int, later_only: bool) -> int:
+    """Put on ``i``'s list (and ``i`` on theirs) every body within the reach of its centre;
+    ``later_only``: only bodies ``j > i`` (building every list at once). 0, or ``LIST_FULL``."""
+    dim = Q[Q_DIM]
+    wrap = Q[Q_PERIODIC] != 0 and IX[i, EDGE] != 0
+    periodic = Q[Q_PERIODIC] != 0
+    reach2 = P[P_REACH] * P[P_REACH]
     cut2 = P[P_CUT] * P[P_CUT]
+    band = 2.0 * P[P_CUT] - P[P_REACH]
+    band2 = band * band
     cap = NB.shape[1]
     nc0 = Q[Q_NC]
     nc1 = Q[Q_NC + 1]
@@ -138,6 +218,12 @@ def _link_neighbours(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: in
     xi = F[i, C]
     yi = F[i, C + 1]
     zi = F[i, C + 2]
+    lx = P[P_L]
+    ly = P[P_L + 1]
+    lz = P[P_L + 2]
+    first = i if later_only else -1
+    start = IX[i, NNB]
+    n = start
     for o2 in range(3):
         a2 = _axis_cell(c2, o2, nc2, periodic)
         if a2 < 0:
@@ -150,34 +236,45 @@ def _link_neighbours(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: in
                 a0 = _axis_cell(c0, o0, nc0, periodic)
                 if a0 < 0:
                     continue
-                j = heads[a0 + nc0 * (a1 + nc1 * a2)]
-                while j >= 0:
-                    if j != i and (j > i or not later_only):
-                        dx = xi - F[j, C]
-                        dy = yi - F[j, C + 1]
-                        dz = zi - F[j, C + 2]
-                        if periodic:
-                            dx = nearest_image(dx, P[P_L])
-                            dy = nearest_image(dy, P[P_L + 1])
-                            if dim == 3:
-                                dz = nearest_image(dz, P[P_L + 2])
-                        if dx * dx + dy * dy + dz * dz < cut2:
-                            ni = IX[i, NNB]
-                            nj = IX[j, NNB]
-                            if ni >= cap or nj >= cap:
-                                return False
-                            NB[i, ni] = j
-                            IX[i, NNB] = ni + 1
-                            NB[j, nj] = i
-                            IX[j, NNB] = nj + 1
-                    j = IX[j, CNEXT]
-    return True
+                other = a0 + nc0 * (a1 + nc1 * a2)
+                for s in range(1, CI[other, 0, 0] + 1):
+                    j = CI[other, s, 3]
+                    dx = xi - float(CF[other, s, 0])
+                    dy = yi - float(CF[other, s, 1])
+                    dz = zi - float(CF[other, s, 2])
+                    if wrap:
+                        dx = nearest_image(dx, lx)
+                        dy = nearest_image(dy, ly)
+                        if dim == 3:
+                            dz = nearest_image(dz, lz)
+                    d2 = dx * dx + dy * dy + dz * dz
+                    if band2 < d2 < reach2:  # too close to the reach to tell from the rounded centres
+                        d2 = _exact_distance2(F, P, wrap, dim, i, j)
+                        if d2 >= cut2:
+                            d2 = reach2
+                    inside = (d2 < reach2) & (j > first) & (j != i)
+                    # written whether or not it is a neighbour (no branch to mispredict), kept if so
+                    if n < cap:
+                        NB[i, n] = j
+                        n += int(inside)
+                    elif inside:
+                        return LIST_FULL
+    IX[i, NNB] = n
+    for m in range(start, n):
+        j = NB[i, m]
+        nj = IX[j, NNB]
+        if nj >= cap:
+            return LIST_FULL
+        NB[j, nj] = i
+        IX[j, NNB] = nj + 1
+    return 0
 
 
 @jit
-def rebuild_list(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int) -> bool:
+def rebuild_list(F: Any, IX: Any, NB: Any, P: Any, Q: Any, CI: Any, CF: Any, i: int) -> int:
     """New list for body ``i`` (already moved to the present) centred on where it is now.
-    False if some list overflowed (the caller widens ``NB`` and builds every list again)."""
+    0, or ``LIST_FULL`` / ``CELL_FULL`` (the caller widens ``NB`` or ``CI`` and builds every
+    list again)."""
     for m in range(IX[i, NNB]):
         j = NB[i, m]
         last = IX[j, NNB] - 1
@@ -187,24 +284,27 @@ def rebuild_list(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any, i: int) -
                 IX[j, NNB] = last
                 break
     IX[i, NNB] = 0
-    _take_from_cell(IX, heads, i)
+    _take_from_cell(IX, CI, i)
     _set_centre(F, P, Q, i)
-    _put_in_cell(F, IX, P, Q, heads, i)
-    return _link_neighbours(F, IX, NB, P, Q, heads, i, False)
+    if not _put_in_cell(F, IX, P, Q, CI, CF, i):
+        return CELL_FULL
+    return _link_neighbours(F, IX, NB, P, Q, CI, CF, i, False)
 
 
 @jit
-def build_all_lists(F: Any, IX: Any, NB: Any, P: Any, Q: Any, heads: Any) -> bool:
+def build_all_lists(F: Any, IX: Any, NB: Any, P: Any, Q: Any, CI: Any, CF: Any) -> int:
     """Every cell and neighbour list from scratch, centred on the present positions (all bodies
-    must hold at the same time). False if a list overflowed."""
+    must hold at the same time). 0, or ``LIST_FULL`` / ``CELL_FULL``."""
     n = F.shape[0]
-    for c in range(heads.shape[0]):
-        heads[c] = -1
+    for c in range(CI.shape[0]):
+        CI[c, 0, 0] = 0
     for i in range(n):
         IX[i, NNB] = 0
         _set_centre(F, P, Q, i)
-        _put_in_cell(F, IX, P, Q, heads, i)
-    ok = True
+        if not _put_in_cell(F, IX, P, Q, CI, CF, i):
+            return CELL_FULL
     for i in range(n):
-        ok = ok and _link_neighbours(F, IX, NB, P, Q, heads, i, True)
-    return ok
+        status = _link_neighbours(F, IX, NB, P, Q, CI, CF, i, True)
+        if status != 0:
+            return status
+    return 0

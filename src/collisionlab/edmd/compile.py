@@ -27,8 +27,12 @@ _INLINED = (_HERE.parent / "engine" / "geometry_kernels.py", _HERE.parent / "tol
 forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED])
 
 import numba  # noqa: E402  (after the cache folder is set)
+from llvmlite import ir  # type: ignore[import-untyped]  # noqa: E402
+from numba.core import cgutils as _cgutils  # noqa: E402
+from numba.core import types  # noqa: E402
+from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["is_cached", "jit", "jit_inline"]
+__all__ = ["is_cached", "jit", "jit_inline", "prefetch"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 
@@ -49,3 +53,41 @@ def is_cached() -> bool:
     """Whether numba's cache seems to hold the event loop already (a guess from its index file:
     a run then loads it in well under a second instead of compiling it)."""
     return any(f.name.startswith("loop.run_events-") for f in cache_files(_HERE))
+
+
+#: numba's code-generation helpers, untyped.
+cgutils: Any = _cgutils
+
+
+@intrinsic
+def _prefetch(typingctx: Any, array: Any, row: Any, column: Any) -> Any:
+    """``prefetch(A, i, k)``: ask the processor to bring the cache line holding ``A[i, k]`` (a 2D
+    array) into its caches, and go on without waiting (LLVM's ``llvm.prefetch``, a read kept in
+    every level). Nothing is read or checked: an index out of range is harmless, and where the
+    machine has no prefetch instruction LLVM leaves the call out. The event loop uses it to start
+    fetching the rows of the next bodies it will touch while it works on the present ones."""
+    if not (isinstance(array, types.Array) and array.ndim == 2):
+        return None
+    if not (isinstance(row, types.Integer) and isinstance(column, types.Integer)):
+        return None
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        array_type = signature.args[0]
+        arr = context.make_array(array_type)(context, builder, args[0])
+        index = [context.cast(builder, args[1], signature.args[1], types.intp),
+                 context.cast(builder, args[2], signature.args[2], types.intp)]  # fmt: skip
+        pointer = cgutils.get_item_pointer(context, builder, array_type, arr, index, wraparound=False)
+        byte = ir.IntType(8).as_pointer()
+        i32 = ir.IntType(32)
+        function = cgutils.get_or_insert_function(
+            builder.module, ir.FunctionType(ir.VoidType(), [byte, i32, i32, i32]), "llvm.prefetch.p0"
+        )
+        # read (0), keep in every cache level (3), data (1)
+        builder.call(function, [builder.bitcast(pointer, byte), i32(0), i32(3), i32(1)])
+        return context.get_dummy_value()
+
+    return types.void(array, row, column), codegen
+
+
+#: ``prefetch(A, i, k)``, callable from compiled code (see ``_prefetch``).
+prefetch = cast(Callable[[Any, int, int], None], _prefetch)

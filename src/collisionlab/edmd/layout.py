@@ -10,10 +10,12 @@ The constants are module globals; numba freezes them into the compiled code.
            velocity hold, scheduled event time ``EVT``, neighbour-list centre (``C..C+2``),
            time ``TLAST`` of the last collision (the TC model)
 ``IX``      collision counter ``COUNT``, the partner's counter when the event was scheduled
-           ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, cell list
-           links ``CELL, CNEXT, CPREV``, calendar links ``HPOS, QID, QNEXT, QPREV``,
+           ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, the
+           ``CELL`` its list centre lies in, calendar links ``HPOS, QID, QNEXT, QPREV``,
            neighbour count ``NNB``, ``EDGE`` (cell on a periodic face)
 ``NB``     neighbour lists, one row per body, ``NB[i, :IX[i, NNB]]``
+``CI``     cells, one row per cell: how many bodies, then each one's float32 centre and index
+           (``CF`` reads the same memory as float32; see :mod:`.cells`)
 ``P``      float parameters (``P_*``); ``Q`` int parameters (``Q_*``)
 ``G``      float accumulators (``G_*``); ``K`` int64 counters (``K_*``)
 ``buf``    events as they happen, ``EVENT_BRIEF`` or ``EVENT_FULL`` columns
@@ -26,9 +28,7 @@ from __future__ import annotations
 
 __all__ = [
     "CELL",
-    "CNEXT",
     "COUNT",
-    "CPREV",
     "EDGE",
     "EVENT_BRIEF",
     "EVENT_FULL",
@@ -72,6 +72,7 @@ __all__ = [
     "P_L",
     "P_MASS",
     "P_RADIUS",
+    "P_REACH",
     "P_SKIN",
     "P_TC",
     "QID",
@@ -104,15 +105,13 @@ PCOUNT = 1
 PARTNER = 2
 KIND = 3
 CELL = 4
-CNEXT = 5
-CPREV = 6
-HPOS = 7  # >= 0: index in the heap; -1: in a list (QID); NB_UNSCHEDULED: no event
-QID = 8
-QNEXT = 9
-QPREV = 10
-NNB = 11
-EDGE = 12  # 1 if the body's cell touches a periodic face (only then are nearest images needed)
-NI = 13
+HPOS = 5  # >= 0: index in the heap; -1: in a list (QID); NB_UNSCHEDULED: no event
+QID = 6
+QNEXT = 7
+QPREV = 8
+NNB = 9
+EDGE = 10  # 1 if the body's cell touches a periodic face (only then are nearest images needed)
+NI = 11
 
 #: ``IX[i, HPOS]`` of a body with no event (it does not move and nothing is coming).
 NB_UNSCHEDULED = -2
@@ -134,7 +133,8 @@ P_CUT = 8  # neighbour-list reach between list centres (shell times the diameter
 P_SKIN = 9  # how far a body may drift from its list centre
 P_BLOCK = 10  # calendar: time span of one block
 P_INV_H = 11  # inverse cell sides, 3 values
-NP = 14
+P_REACH = 14  # P_CUT and a margin for the float32 centres of the cells (see cells.py)
+NP = 15
 
 # Q: int parameters
 Q_DIM = 0

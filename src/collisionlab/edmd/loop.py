@@ -21,8 +21,8 @@ rest keeps a residual jiggle of speed about ``g t_c``) and leaves dilute collisi
 
 The loop stops at the first event after ``t_end`` (status ``DONE``), when the event buffer is
 full (``BUFFER_FULL``: the caller writes it out and calls again), when ``max_events`` have been
-handled (``EVENT_LIMIT``), or when a neighbour list overflows (``LIST_FULL``: the caller widens
-the lists and starts again from the present).
+handled (``EVENT_LIMIT``), or when a neighbour list or a cell overflows (``LIST_FULL``,
+``CELL_FULL``: the caller widens the lists or the cells and starts again from the present).
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ import math
 from typing import Any
 
 from .calendar import calendar_clear, calendar_insert, calendar_next, calendar_pop, calendar_remove
-from .cells import build_all_lists, nearest_image, rebuild_list
-from .compile import jit, jit_inline
+from .cells import CELL_FULL, LIST_FULL, build_all_lists, fetch_cells, nearest_image, rebuild_list
+from .compile import jit, jit_inline, prefetch
 from .layout import (
     COUNT,
     EDGE,
@@ -47,6 +47,7 @@ from .layout import (
     HPOS,
     K_BUFFERED,
     K_EVENTS,
+    K_HEAP,
     K_NLIST,
     K_PAIRS,
     K_STALE,
@@ -57,6 +58,8 @@ from .layout import (
     KIND_PAIR,
     KIND_WALL,
     NB_UNSCHEDULED,
+    NF,
+    NI,
     NNB,
     P_E,
     P_G,
@@ -77,12 +80,21 @@ from .layout import (
 )
 from .predict import ceiling_time, contact_time, floor_time, impulse_magnitude, leave_time, wall_time
 
-__all__ = ["BUFFER_FULL", "DONE", "EVENT_LIMIT", "LIST_FULL", "max_overlap_now", "run_events", "start", "synchronize"]
+__all__ = [
+    "BUFFER_FULL",
+    "CELL_FULL",
+    "DONE",
+    "EVENT_LIMIT",
+    "LIST_FULL",
+    "max_overlap_now",
+    "run_events",
+    "start",
+    "synchronize",
+]
 
 DONE = 0
 BUFFER_FULL = 1
 EVENT_LIMIT = 2
-LIST_FULL = 3
 
 
 @jit_inline
@@ -354,11 +366,65 @@ def _bounce(
     _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
 
 
+@jit_inline
+def _fetch_rows(F: Any, IX: Any, NB: Any, i: int) -> None:
+    """Prefetch body ``i``'s rows of ``F``, ``IX`` and its neighbour list (see ``_fetch_ahead``)."""
+    prefetch(F, i, 0)
+    prefetch(F, i, NF - 1)
+    prefetch(IX, i, 0)
+    prefetch(IX, i, NI - 1)
+    for m in range(0, NB.shape[1], 16):
+        prefetch(NB, i, m)
+
+
+@jit_inline
+def _fetch_neighbours(F: Any, IX: Any, NB: Any, i: int) -> None:
+    """Prefetch the position, velocity and time of each of ``i``'s neighbours (what predicting
+    ``i``'s next collision reads): ``i``'s list must be at hand already."""
+    for m in range(IX[i, NNB]):
+        j = NB[i, m]
+        prefetch(F, j, X)
+        prefetch(F, j, T)
+
+
+@jit_inline
+def _fetch_ahead(heap: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, CI: Any, i: int) -> None:
+    """Start fetching from memory what the events about to be handled will read, so that the
+    fetches run side by side while this event is worked on (with a million bodies the events
+    come in no order in space, nearly every row is a cache miss, and the misses of one event
+    otherwise come one after another): the rows of this event's neighbours (its body ``i`` and
+    its partner, whose lists were fetched one event earlier), and the lists and the partner's
+    rows of the next event (the heap's first, unless this event schedules an earlier one), or
+    the cells it will look through if it rebuilds its list."""
+    _fetch_neighbours(F, IX, NB, i)
+    kind = IX[i, KIND]
+    if kind == KIND_PAIR:
+        _fetch_neighbours(F, IX, NB, IX[i, PARTNER])
+    elif kind == KIND_NLIST:
+        for m in range(IX[i, NNB]):
+            j = NB[i, m]
+            prefetch(IX, j, NNB)
+            prefetch(NB, j, 0)
+    if K[K_HEAP] > 0:
+        k = heap[0]
+        for m in range(0, NB.shape[1], 16):
+            prefetch(NB, k, m)
+        kind = IX[k, KIND]
+        if kind == KIND_PAIR:
+            _fetch_rows(F, IX, NB, IX[k, PARTNER])
+        elif kind == KIND_NLIST:
+            dt = F[k, EVT] - F[k, T]
+            fetch_cells(
+                P, Q, CI, F[k, X] + F[k, V] * dt, F[k, X + 1] + F[k, V + 1] * dt, F[k, X + 2] + F[k, V + 2] * dt
+            )
+
+
 @jit
 def run_events(
     heap: Any,
     lists: Any,
-    heads: Any,
+    CI: Any,
+    CF: Any,
     F: Any,
     IX: Any,
     NB: Any,
@@ -384,6 +450,7 @@ def run_events(
         now = F[i, EVT]
         G[G_NOW] = now
         calendar_pop(heap, F, IX, K)
+        _fetch_ahead(heap, F, IX, NB, P, Q, K, CI, i)
         handled += 1
         K[K_EVENTS] += 1
         kind = IX[i, KIND]
@@ -394,8 +461,9 @@ def run_events(
         else:
             _advance(F, i, now, P[P_G])
             K[K_NLIST] += 1
-            if not rebuild_list(F, IX, NB, P, Q, heads, i):
-                return LIST_FULL
+            status = rebuild_list(F, IX, NB, P, Q, CI, CF, i)
+            if status != 0:
+                return status
             _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
 
 
@@ -408,16 +476,18 @@ def synchronize(F: Any, P: Any, now: float) -> None:
 
 
 @jit
-def start(heap: Any, lists: Any, heads: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, now: float) -> bool:
+def start(heap: Any, lists: Any, CI: Any, CF: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, now: float) -> int:
     """Bring every body to ``now``, build every list, and predict every event afresh (the
-    beginning of a run, or a restart after the neighbour lists were widened)."""
+    beginning of a run, or a restart after the neighbour lists or cells were widened). 0, or
+    ``LIST_FULL`` / ``CELL_FULL``."""
     synchronize(F, P, now)
-    if not build_all_lists(F, IX, NB, P, Q, heads):
-        return False
+    status = build_all_lists(F, IX, NB, P, Q, CI, CF)
+    if status != 0:
+        return status
     calendar_clear(lists, IX, P, K, now)
     for i in range(F.shape[0]):
         _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
-    return True
+    return 0
 
 
 @jit

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 from ..errors import InvalidInputError
 from ..validate import non_negative, positive
 from . import layout as L
-from .loop import BUFFER_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
+from .loop import BUFFER_FULL, CELL_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
 
 __all__ = ["EventDrivenWorld", "EventSink", "Tally", "shell_for"]
 
@@ -41,6 +41,8 @@ SHELL_MAX = 2.0
 #: times the ring of lists covers before the overflow list (tuned in bench/bench_edmd.py).
 EVENTS_PER_BLOCK = 8.0
 HORIZON = 4.0
+#: Slots of a cell's row (its count and up to 15 bodies, 256 bytes): doubled when one fills.
+CELL_SLOTS = 16
 #: Events held before a streamed block is handed to the sink.
 BUFFER_EVENTS = 1 << 16
 
@@ -172,17 +174,20 @@ class EventDrivenWorld:
         self.P[L.P_TC] = self.tc
         self.P[L.P_G] = self.gravity
         self.P[L.P_CUT] = cut
+        # the cells' float32 centres are off by at most 2^-24 of the box side per axis
+        self.P[L.P_REACH] = cut + 8.0 * float(np.finfo(np.float32).eps) * float(box.max())
         self.P[L.P_SKIN] = 0.5 * (cut - sigma)
         self.Q[L.Q_DIM] = dim
         self.Q[L.Q_PERIODIC] = int(self.periodic)
         self.Q[L.Q_NC : L.Q_NC + 3] = 1
-        # Cells at least one reach wide; no more than about 2 per body (a sparse box).
+        # Cells at least one reach wide; no more than about one per 2 bodies (a sparse box): each
+        # cell's row holds room for CELL_SLOTS - 1 bodies, 256 bytes, 128 bytes a body at most.
         cells = np.maximum(1, np.floor(box / cut)).astype(np.int64)
-        while int(np.prod(cells)) > 2 * n + 27 and np.any(cells > 1):
+        while int(np.prod(cells)) > n // 2 + 27 and np.any(cells > 1):
             cells = np.maximum(1, (cells * 0.8).astype(np.int64))
         self.Q[L.Q_NC : L.Q_NC + dim] = cells
         self.P[L.P_INV_H : L.P_INV_H + dim] = cells / box
-        self.heads = np.full(int(np.prod(cells)), -1, dtype=np.int32)
+        self._cells(int(np.prod(cells)), CELL_SLOTS)
         self.heap = np.zeros(n, dtype=np.int32)
         neighbours = 16 if dim == 2 else 32
         self.NB = np.zeros((n, neighbours), dtype=np.int32)
@@ -195,9 +200,29 @@ class EventDrivenWorld:
             raise InvalidInputError("positions", "balls must not overlap at the start")
         self.G[L.G_MAX_OVERLAP] = 0.0
 
-    def _start(self) -> None:
-        while not start(self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.K, self.time):
+    def _cells(self, count: int, slots: int) -> None:
+        """Room for ``count`` cells of ``slots - 1`` bodies (see :mod:`.cells`)."""
+        size = count * slots * 16
+        memory = np.zeros(size + 64, dtype=np.uint8)
+        skip = -memory.ctypes.data % 64  # rows on cache lines: a cell's count and first 3 bodies in one
+        self.CI = memory[skip : skip + size].view(np.int32).reshape(count, slots, 4)
+        self.CF = self.CI.view(np.float32)
+
+    def _widen(self, status: int) -> None:
+        """Twice the room in every neighbour list (``LIST_FULL``) or every cell (``CELL_FULL``)."""
+        if status == LIST_FULL:
             self.NB = np.zeros((self.n, 2 * self.NB.shape[1]), dtype=np.int32)
+        elif status == CELL_FULL:
+            self._cells(self.CI.shape[0], 2 * self.CI.shape[1])
+
+    def _start(self) -> None:
+        while True:
+            status = start(
+                self.heap, self.lists, self.CI, self.CF, self.F, self.IX, self.NB, self.P, self.Q, self.K, self.time
+            )
+            if status == 0:
+                return
+            self._widen(status)
 
     def _tune_calendar(self) -> None:
         """Blocks of about ``EVENTS_PER_BLOCK`` events, a ring covering ``HORIZON`` typical
@@ -240,7 +265,7 @@ class EventDrivenWorld:
             before = int(self.K[L.K_EVENTS])
             chunk = limit if between is None else min(limit, max(1, int(every)))
             status = run_events(
-                self.heap, self.lists, self.heads, self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K,
+                self.heap, self.lists, self.CI, self.CF, self.F, self.IX, self.NB, self.P, self.Q, self.G, self.K,
                 buffer, float(until), chunk,
             )  # fmt: skip
             limit -= int(self.K[L.K_EVENTS]) - before
@@ -252,12 +277,13 @@ class EventDrivenWorld:
                 block[:, 2] = np.where(b >= 0, self.order[np.maximum(b, 0)], b)
                 sink(block)
                 self.K[L.K_BUFFERED] = 0
-            if between is not None and status != LIST_FULL:  # after the sink: no event is lost if it raises
+            # after the sink: no event is lost if it raises
+            if between is not None and status not in (LIST_FULL, CELL_FULL):
                 between()
             if status == BUFFER_FULL or (status == EVENT_LIMIT and limit > 0):  # (a chunk for between)
                 continue
-            if status == LIST_FULL:
-                self.NB = np.zeros((self.n, 2 * self.NB.shape[1]), dtype=np.int32)
+            if status in (LIST_FULL, CELL_FULL):
+                self._widen(status)
                 self._start()
                 continue
             break  # DONE or EVENT_LIMIT
@@ -325,7 +351,7 @@ class EventDrivenWorld:
             self.Q,
             self.G,
             self.K,
-            self.heads,
+            self.CI,
             self.heap,
             self.lists,
             self.order,
