@@ -142,3 +142,50 @@ def test_looking_between_chunks_changes_nothing() -> None:
     assert chunked.tally() == straight.tally()
     assert np.array_equal(chunked.positions, straight.positions)
     assert np.array_equal(chunked.velocities, straight.velocities)
+
+
+# --- the cells as compact rows (float32 centres, rows that fill and are widened) ----------------
+def test_neighbour_lists_hold_exactly_the_bodies_within_the_cut_despite_float32_cells() -> None:
+    # The cells keep float32 centres (off by ~1e-4 at a coordinate of 1,800): pairs placed at
+    # 1 +- 1e-7 of the cut apart are decided again from the float64 centres. Oracle: every pair's
+    # distance in float64, all N^2 of them.
+    from collisionlab.edmd import layout as L
+
+    side, m = 2000.0, 400  # 400 pairs on a 20 x 20 lattice near the far corner of the box
+
+    def pairs(cut: float) -> np.ndarray:
+        base = 1700.0 + 3.0 * cut * np.stack(np.meshgrid(np.arange(20), np.arange(20)), -1).reshape(m, 2)
+        gap = cut * (1.0 + np.where(np.arange(m) % 2 == 0, -1e-7, 1e-7))  # in, out, in, out...
+        return np.concatenate([base, base + np.column_stack([gap, np.zeros(m)])])
+
+    cut = EventDrivenWorld(pairs(4.0), np.zeros((2 * m, 2)), [side, side]).P[L.P_CUT]  # n, box: the cut
+    world = EventDrivenWorld(pairs(cut), np.zeros((2 * m, 2)), [side, side])
+    assert world.P[L.P_CUT] == cut
+    centres = world.F[:, L.C : L.C + 2]
+    distance = np.sqrt(((centres[:, None, :] - centres[None, :, :]) ** 2).sum(axis=2))
+    np.fill_diagonal(distance, np.inf)
+    for i in range(2 * m):
+        listed = set(world.NB[i, : world.IX[i, L.NNB]].tolist())
+        assert listed == set(np.flatnonzero(distance[i] < cut).tolist()), i
+    assert sum(int(world.IX[i, L.NNB]) for i in range(2 * m)) == m  # half the pairs, each listed twice
+
+
+def test_cells_that_fill_are_widened_and_the_run_is_the_same(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Rows of room for one body each fill at once and are doubled (CELL_FULL) until all fit;
+    # the run then goes as with the usual room: the same collisions, and the same state to
+    # rounding (every list is built again after a widening, which re-bases each flight at a
+    # different moment: 7e-15 here after 6,000 collisions; a wrong list would differ at O(1)).
+    import collisionlab.edmd.world as world_module
+
+    gas = ExactGas(n=500, dim=3, fraction=0.3, boundary="periodic", seed=4).checked()
+    usual = gas.world()
+    monkeypatch.setattr(world_module, "CELL_SLOTS", 2)
+    cramped = gas.world()
+    assert cramped.CI.shape[1] > 2 and cramped.CI.shape[1] != usual.CI.shape[1]  # widened
+    usual.run(5.0)
+    cramped.run(5.0)
+    assert usual.tally().pair_collisions > 5_000
+    a, b = cramped.tally(), usual.tally()
+    assert a.pair_collisions == b.pair_collisions
+    assert np.abs(cramped.positions - usual.positions).max() < 1e-12
+    assert np.abs(cramped.velocities - usual.velocities).max() < 1e-12
