@@ -17,7 +17,6 @@ from ..scenario_file import ScenarioError
 from ..world import InitialOverlapError
 from . import examples_command, gas_command, sweep_command
 from .interrupts import Stopped, stop_on_signals
-from .menu import run_menu
 from .run_command import add_run_parsers
 from .streams import Streams
 
@@ -67,7 +66,7 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"collisionlab {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=Parser)
     menu = sub.add_parser("menu", help="the lab's interactive menu (also reads answers from a pipe)")
-    menu.set_defaults(func=lambda args, streams: run_menu(streams))
+    menu.set_defaults(func=lambda args, streams: _menu(streams))
     add_run_parsers(sub)
     gas_command.add_parser(sub)
     examples_command.add_parser(sub)
@@ -75,10 +74,16 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     return parser
 
 
+def _menu(streams: Streams) -> int:
+    from .menu import run_menu  # here: the other commands start without it
+
+    return run_menu(streams)
+
+
 def _dispatch(parser: argparse.ArgumentParser, args_list: list[str], streams: Streams) -> int:
     if not args_list:
         if streams.interactive:
-            return run_menu(streams)
+            return _menu(streams)
         streams.err(parser.format_usage().rstrip())
         streams.err(
             "collisionlab: no command given and standard input is not a terminal; "

@@ -14,7 +14,6 @@ from typing import Any
 
 from ..atomic import check_target
 from ..errors import InvalidInputError
-from ..sweep.spec import SweepError, load_sweep
 from .interrupts import Stopped
 from .progress import SHOW_AFTER
 from .run_command import positive_int
@@ -95,6 +94,7 @@ def _table(rows: list[dict[str, Any]], columns: list[tuple[str, str]]) -> str:
 def run(args: argparse.Namespace, streams: Streams) -> int:
     """0 every row written, 65 a bad sweep file, 2 bad flags, 1 rows left unwritten or a failure."""
     from ..sweep.runner import dask_client, run_sweep, table_columns
+    from ..sweep.spec import SweepError, load_sweep
     from ..sweep.store import ResultStore
 
     if args.scheduler is not None and args.workers is not None:
