@@ -364,6 +364,7 @@ def scaling(pairs: int = 5) -> list[float]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="1k and 10k only, no 1M, no design figures")
+    parser.add_argument("--sizes", help="comma-separated N to run (e.g. 10000,100000), no design figures")
     parser.add_argument("--scaling-only", action="store_true", help="only the 1M-against-10k cost ratio")
     parser.add_argument("--memory-probe", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -391,6 +392,8 @@ def main() -> None:
         _print_scaling()
         return
     sizes = [1000, 10_000] if args.quick else [1000, 10_000, 100_000, 1_000_000]
+    if args.sizes:
+        sizes = [int(n) for n in args.sizes.split(",")]
     ours_by_n: dict[int, Figure] = {}
     for n in sizes:
         gas = settled(gas_scenario(n, 2, SEED))
@@ -435,7 +438,7 @@ def main() -> None:
             )
     else:
         print("# pybullet not installed: no 3D comparison")
-    if not args.quick:
+    if not (args.quick or args.sizes):
         jacobi, sequential = jacobi_drift(gas_scenario(10_000, 2, SEED), 1000)
         print(f"# energy drift, 10k discs, 1000 steps: sequential (the world) {sequential:.1e}, Jacobi {jacobi:.1e}")
         for n in (10_000, 100_000):
