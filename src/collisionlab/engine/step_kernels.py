@@ -1672,56 +1672,16 @@ def find_near(
     cb = np.zeros(cap, np.int64)
     cd = np.zeros(cap)
     no_normals = np.zeros((0, 3))
-    count = _find_pairs(
-        skind,
-        spos,
-        sext,
-        sids,
-        s_kind,
-        s_a,
-        s_b,
-        dims,
-        lo,
-        h,
-        shape,
-        buckets,
-        n_small,
-        starts,
-        stencil,
-        cell_key,
-        ca,
-        cb,
-        cd,
-        no_normals,
-        margin,
-    )
-    if count > cap:
+    while True:  # listed again, into arrays large enough, when they were too small
+        count = _find_pairs(
+            skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
+            cell_key, ca, cb, cd, no_normals, margin,
+        )  # fmt: skip
+        if count <= ca.shape[0]:
+            break
         ca = np.zeros(count, np.int64)
         cb = np.zeros(count, np.int64)
         cd = np.zeros(count)
-        _find_pairs(
-            skind,
-            spos,
-            sext,
-            sids,
-            s_kind,
-            s_a,
-            s_b,
-            dims,
-            lo,
-            h,
-            shape,
-            buckets,
-            n_small,
-            starts,
-            stencil,
-            cell_key,
-            ca,
-            cb,
-            cd,
-            no_normals,
-            margin,
-        )
     pairs = np.zeros((count, 2), np.int64)
     for t in range(count):
         pairs[t, 0] = sids[ca[t]] if ca[t] >= 0 else ca[t]
