@@ -4,17 +4,19 @@ summary, CSV and JSON. Records come from small scenarios whose numbers are easy 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import json
 import math
 import re
 
+import numpy as np
 import pytest
 
 from collisionlab.cli.render import render, render_csv, render_json, render_table
 from collisionlab.demos import load_demo
 from collisionlab.model import Body, Obstacle, Scenario, Settings
-from collisionlab.record import RunRecord
+from collisionlab.record import Frame, FrameBodies, RunRecord
 from collisionlab.shapes import Circle, Line, Plane, Sphere
 from collisionlab.world import simulate
 from tests.schema_check import check
@@ -206,6 +208,19 @@ def test_no_signed_zero_in_any_output() -> None:
     record = simulate(load_demo("aabb3d"))
     assert record.ledger.potential_start == 0.0  # -0.0 == 0.0; the sign is what the outputs must hide
     text = render_table(record, explain=True) + render_csv(record) + render_json(record)
+    assert not re.search(r"-0(\.0*)?(?![0-9.e])", text)
+
+
+def test_frames_from_a_worlds_arrays_print_no_signed_zero() -> None:
+    # A world's frames hold its arrays (FrameBodies), where a kernel's -0.0 survives (a Vector3D
+    # would have dropped its sign); each writer reads those arrays directly.
+    record = simulate(load_demo("aabb3d"))
+    first = record.frames[0]
+    signed = np.full((len(first.bodies), 3), -0.0)
+    names = [b.name for b in first.bodies]
+    frame = Frame(first.step, first.time, FrameBodies(names, signed, signed.copy()))
+    replaced = dataclasses.replace(record, frames=[frame, *record.frames[1:]])
+    text = render_table(replaced) + render_csv(replaced) + render_json(replaced)
     assert not re.search(r"-0(\.0*)?(?![0-9.e])", text)
 
 

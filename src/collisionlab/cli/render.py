@@ -231,8 +231,8 @@ class CsvWriter:
         row: list[object] = [frame.step, f"{frame.time:.15g}"]
         # 15 significant digits: every digit a double holds for sure (JSON keeps all 17).
         bodies = frame.bodies
-        if isinstance(bodies, FrameBodies):  # a world's frame: from its arrays
-            row += [f"{c:.15g}" for c in np.hstack((bodies.positions, bodies.velocities)).ravel().tolist()]
+        if isinstance(bodies, FrameBodies):  # a world's frame: from its arrays (+ 0.0: no signed zero)
+            row += [f"{c:.15g}" for c in (np.hstack((bodies.positions, bodies.velocities)) + 0.0).ravel().tolist()]
         else:
             for body in bodies:
                 row += [f"{c:.15g}" for c in (*body.position.as_tuple(), *body.velocity.as_tuple())]
