@@ -83,7 +83,7 @@ def test() -> None:
     sh(BIN / "mypy")
     sh(BIN / "mkdocs", "build", "--strict", "--quiet")  # the API reference; a warning fails it
     sh_waiting_for_apt("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
-    sh(PYTHON, "-m", "pytest")
+    sh(PYTHON, "-m", "pytest", "-n", "auto")  # pytest-xdist: one worker per core
 
 
 def bench() -> None:

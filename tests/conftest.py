@@ -6,6 +6,8 @@ inside tests). The example count stays at hypothesis' default of 100.
 
 from __future__ import annotations
 
+import os
+
 import pytest
 from hypothesis import settings
 
@@ -17,13 +19,26 @@ settings.load_profile("collisionlab")
 def _compiled_engine() -> None:
     """Compile the engine's kernels (or load numba's cache) once, before any test: a test that
     waits for a program's output must not wait for the compiler instead. All three steppers:
-    Forward Euler, exact, event-driven."""
+    Forward Euler, exact, event-driven, and the particle kernels. Under pytest-xdist, odd
+    workers take them in the opposite order: two workers compile different kernels at once,
+    and each then loads the other's from numba's cache (its writes are atomic)."""
     from collisionlab.demos import load_demo
     from collisionlab.edmd.observables import ExactGas
     from collisionlab.engine import WorldParams
     from collisionlab.engine.world import World
     from collisionlab.particles import warm_up
 
-    warm_up()
-    World(load_demo("bouncing-ball"), WorldParams(compiled=True)).step(2)
-    ExactGas(n=20, dim=2, fraction=0.1, time=0.1).world().run(0.1)
+    def euler() -> None:
+        World(load_demo("bouncing-ball").with_settings(mode="euler"), WorldParams(compiled=True)).step(2)
+
+    def exact() -> None:
+        World(load_demo("bouncing-ball").with_settings(mode="exact"), WorldParams(compiled=True)).step(2)
+
+    def event_driven() -> None:
+        ExactGas(n=20, dim=2, fraction=0.1, time=0.1).world().run(0.1)
+
+    order = [warm_up, euler, exact, event_driven]
+    if int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0) % 2:
+        order.reverse()
+    for compile_or_load in order:
+        compile_or_load()
