@@ -59,7 +59,8 @@ _CALLS = {"step_kernels": ("geometry_kernels",), "exact_kernels": ("geometry_ker
 def _forget_stale() -> None:
     """Remove a kernel file's cached code if a file it calls is newer than it."""
     for stem, callees in _CALLS.items():
-        sources = [_HERE / f"{callee}.py" for callee in callees] + [_HERE.parent / "tolerances.py"]
+        sources = [_HERE / f"{callee}.py" for callee in callees]
+        sources += [_HERE.parent / "tolerances.py", _HERE.parent / "limits.py"]
         forget_stale(_HERE, [stem], sources)
 
 

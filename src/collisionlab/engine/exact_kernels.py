@@ -52,6 +52,7 @@ from typing import Any
 
 import numpy as np
 
+from ..limits import MAX_RUN_SPEED
 from ..tolerances import APPROACH_ROUNDING
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
@@ -753,6 +754,7 @@ def run_exact_steps(
         start = step * dt
         t = 0.0
         impacts = 0
+        runaway = False
         for i in range(n):
             tau[i] = 0.0
         count = 0
@@ -927,6 +929,11 @@ def run_exact_steps(
                 if impacts >= MAX_IMPACTS_PER_STEP:
                     status[0] += 1
                     break
+                if runaway:
+                    # A kick left a body faster than the range simulated (e > 1 adds energy at
+                    # every impact): the step ends here and the world's range guard stops the
+                    # run, instead of thousands of impacts at speeds bound for inf.
+                    break
                 impacts += 1
                 expiry = c >= count
                 if expiry:
@@ -1012,6 +1019,9 @@ def run_exact_steps(
                     e = 0.0 if below else e_pair
                     j = _kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
                     status[1] += 1
+                    for k in range(3):  # (not <=: NaN too)
+                        if not abs(vel[b, k]) <= MAX_RUN_SPEED or (a >= 0 and not abs(vel[a, k]) <= MAX_RUN_SPEED):
+                            runaway = True
                     if record and (touching[c] == 0 or not below):
                         events = sk._write_event(
                             events,
