@@ -5,15 +5,19 @@ from __future__ import annotations
 import json
 import math
 import re
+import struct
 import sys
+from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from collisionlab.demos import load_demo
 from collisionlab.errors import InvalidInputError
-from collisionlab.record import EventBlock, RunRecord
+from collisionlab.record import CollisionEvent, EventBlock, RunRecord, _json_vectors, json_numbers
 from collisionlab.vector import Vector3D
 from collisionlab.world import simulate
 
@@ -126,12 +130,75 @@ def _block(rows: int, seed: int) -> EventBlock:
     )
 
 
+#: A number in JSON text as the json module lays it out (after "[", ": " or ", ").
+_JSON_NUMBER = re.compile(r"(?:(?<=\[)|(?<=[:,] ))-?[0-9][0-9.eE+-]*")
+
+
+def _same_json_as_the_json_module(lines: list[str], events: Sequence[CollisionEvent]) -> None:
+    """``lines`` hold what ``json.dumps(event.to_dict())`` writes of each of ``events`` (the
+    json module is the oracle): the same values to the bit, keys in the same order, the same
+    layout; only the text of a number may differ (orjson's shortest text is not repr's)."""
+    assert len(lines) == len(events)
+    for line, event in zip(lines, events, strict=True):
+        oracle = json.dumps(event.to_dict())
+        assert json.dumps(json.loads(line)) == oracle  # values (repr is bit for bit) and key order
+        assert _JSON_NUMBER.sub("N", line) == _JSON_NUMBER.sub("N", oracle)  # layout, names
+
+
 @pytest.mark.parametrize("seed", range(5))
 def test_event_block_json_is_what_the_json_module_writes(seed: int) -> None:
     block = _block(200, seed)
     lines = block.json_lines()
-    assert lines == [json.dumps(event.to_dict()) for event in block]  # the json module is the oracle
+    _same_json_as_the_json_module(lines, block)
     assert not re.search(r"-0\.0(?![0-9])", "".join(lines))  # signed zeros were written 0.0
+    # In pieces, with a separator before each event: the same lines.
+    assert "".join(block.json_chunks(",\n  ", size=7)) == "".join(",\n  " + line for line in lines)
+
+
+def test_event_block_json_of_a_nan_or_an_infinity_is_the_json_modules() -> None:
+    # A world never hands these over (its range guard stops a run first); a block built by
+    # hand may hold them: orjson would write null, the json module writes NaN and Infinity.
+    block = _block(20, 7)
+    block.impulse[3] = math.nan
+    block.time[6] = math.inf
+    block.after_b[5, 1] = -math.inf  # (a CollisionEvent cannot hold it: Vector3D is finite)
+    lines = block.json_lines()
+    for k in (3, 6):
+        assert lines[k] == json.dumps(block[k].to_dict())
+    assert '"impulse": NaN, ' in lines[3] and '"time": Infinity, ' in lines[6]
+    assert re.search(r'"velocities_after": \{.*: \[[^,]+, -Infinity, [^,]+\]\}', lines[5])
+    _same_json_as_the_json_module(lines[:5] + lines[7:], block[:5] + block[7:])
+
+
+def _bits(x: float) -> int:
+    return int(struct.unpack("<Q", struct.pack("<d", x))[0])
+
+
+#: Doubles of every kind: from random bits (every exponent, subnormals included), whole
+#: numbers, and the edges: the smallest subnormal, the largest subnormal, the smallest normal,
+#: the largest double, where repr and orjson change between plain and exponent notation.
+_DOUBLES = st.one_of(
+    st.floats(allow_nan=False, allow_infinity=False),
+    st.integers(0, 2**64 - 1).map(lambda bits: float(struct.unpack("<d", struct.pack("<Q", bits))[0])),
+    st.integers(-(2**64), 2**64).map(float),
+    st.sampled_from([5e-324, -5e-324, 2.225073858507201e-308, 2.2250738585072014e-308, 1.7976931348623157e308]),
+    st.sampled_from([1e-7, 1.5e-7, 1e-5, 1e-4, 0.1 + 0.2, 1e15, 1e16, 1.5e16, 1e21, 1e22, 1e23, 2.0**53 + 2, -0.0]),
+).filter(math.isfinite)
+_JSON_NUMBER_TEXT = re.compile(r"-?(?:0|[1-9][0-9]*)(?:\.[0-9]+)?(?:[eE][-+]?[0-9]+)?")
+
+
+@given(st.lists(_DOUBLES, min_size=1, max_size=60))
+def test_every_number_written_reads_back_as_the_same_double(values: list[float]) -> None:
+    # Each number's text, alone (json_numbers) and in the vectors of an event's line: a JSON
+    # number that json.loads reads as a float, the same double to the bit; -0.0 written 0.0.
+    array = np.array(values)
+    vectors = np.resize(array, (-(-len(values) // 3), 3))
+    texts = json_numbers(array)
+    vector_texts = [t for row in _json_vectors(vectors) for t in row.split(", ")]
+    for value, text in [*zip(values, texts, strict=True), *zip(vectors.ravel().tolist(), vector_texts, strict=True)]:
+        assert _JSON_NUMBER_TEXT.fullmatch(text), text
+        read = json.loads(text)
+        assert isinstance(read, float) and _bits(read) == _bits(value + 0.0), (value, text)
 
 
 def test_event_block_builds_events_on_demand() -> None:
