@@ -7,8 +7,9 @@ import csv
 import io
 import json
 import math
+import shutil
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import IO, Any, TextIO
 
 import numpy as np
@@ -272,15 +273,17 @@ def _dumps_item(item: Frame | CollisionEvent | SkippedContact) -> str:
 class JsonWriter:
     """One JSON object per run, written as it goes: one top-level key per line and each frame,
     event and skipped contact on a line of its own (readable, line-oriented, and written by the
-    json module's C encoder, which ``indent`` would turn off). Frames go straight out; events and
-    skipped contacts, which the object lists after the frames, wait in temporary files (disk,
-    not memory). The object ends with ``}`` (no newline)."""
+    json module's C encoder, which ``indent`` would turn off; a world's events by
+    :meth:`EventBlock.json_chunks <collisionlab.record.EventBlock.json_chunks>`). Frames go
+    straight out; events and skipped contacts, which the object lists after the frames, wait in
+    temporary files (disk, not memory), already with the commas between them, and are copied in
+    whole at the end. The object ends with ``}`` (no newline)."""
 
     def __init__(self, out: TextIO, every: int = 1) -> None:
         self._out, self._every = out, every
         self._steps = 0
         self._frames = 0
-        self._spools: dict[str, tuple[IO[str], list[int]]] = {}
+        self._spools: dict[str, tuple[IO[str], list[int]]] = {}  # each with the pieces written to it
 
     def begin(self, record: RunRecord) -> None:
         self._steps = record.steps
@@ -300,26 +303,28 @@ class JsonWriter:
 
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         for key, items in (("events", events), ("skipped", skipped)):
-            spool, count = self._spools[key]
+            if not items:
+                continue
+            spool, written = self._spools[key]
+            # Each item after ",\n  ", the first of all after "\n  " (the list's first line).
             if isinstance(items, EventBlock):  # a world's events: written from their columns
-                spool.writelines(line + "\n" for line in items.json_lines())
+                chunks: Iterable[str] = items.json_chunks(",\n  ")
             else:
-                spool.writelines(_dumps_item(item) + "\n" for item in items)
-            count[0] += len(items)
+                chunks = ["".join(",\n  " + _dumps_item(item) for item in items)]
+            for text in chunks:
+                spool.write(text if written[0] else text[1:])
+                written[0] += 1
 
     def warning(self, text: str) -> None:
         pass  # the record's warnings are written at the end
 
     def end(self, record: RunRecord) -> None:
         self._out.write("\n ]" if self._frames else "]")
-        for key, (spool, count) in self._spools.items():
+        for key, (spool, written) in self._spools.items():
             self._out.write(f",\n {json.dumps(key)}: [")
-            if count[0]:
+            if written[0]:
                 spool.seek(0)
-                separator = "\n  "
-                for line in spool:  # a line at a time: the spool may be larger than memory
-                    self._out.write(separator + line.rstrip("\n"))
-                    separator = ",\n  "
+                shutil.copyfileobj(spool, self._out)  # in pieces: the spool may be larger than memory
                 self._out.write("\n ]")
             else:
                 self._out.write("]")
