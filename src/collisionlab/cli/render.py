@@ -74,28 +74,57 @@ def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
     return lines
 
 
-def _block_lines(block: EventBlock, dims: int) -> list[tuple[int, list[str]]]:
-    """:func:`_event_lines` of every event of ``block`` (without ``--explain``), the same text,
-    written from the block's columns instead of event objects (a heap of balls makes millions)."""
-    a_ids = block.a.tolist()
-    names_a = [block.static_names[-1 - a] if a < 0 else block.names[a] for a in a_ids]
-    names_b = [block.names[b] for b in block.b.tolist()]
-    velocities = np.column_stack((block.after_a[:, :dims], block.after_b[:, :dims])).tolist()
+def _block_templates(dims: int) -> tuple[str, str]:
+    """The ``%`` templates of :func:`_event_lines`'s text (without ``--explain``) of an event
+    between two bodies and of a body against an obstacle, for :func:`_block_texts`'s arguments:
+    step, time, the two names as the first line gives them, then A's name and velocity (empty
+    against an obstacle) and B's."""
+    vector = "(" + ", ".join(["%.3f"] * dims) + ")"
+    head = "collision at step %d (t = %.3f s): "
+    return (
+        head + f"%s and %s collide\n  velocities after: %s = {vector}, %s = {vector} m/s\n",
+        head + f"%s hits %s\n  velocity after: {'%s' * (1 + dims)}%s = {vector} m/s\n",
+    )
 
-    def vector(row: list[float]) -> str:  # _vec's text: no signed zero (-0.000 is 0.000)
-        return ("(" + ", ".join(f"{x:.3f}" for x in row) + ")").replace("-0.000", "0.000")
 
+def _block_texts(block: EventBlock, dims: int) -> list[tuple[int, str]]:
+    """The text of :func:`_event_lines` (without ``--explain``) of every event of ``block``, one
+    text (its lines, each ending in a newline) per step, the steps in order and each step's
+    events in the block's order: the same text, written from the block's columns, with one ``%``
+    a step (a heap of balls makes millions of events)."""
+    n = len(block)
+    if not n:
+        return []
+    steps, a, b = block.step, block.a, block.b
+    order = np.argsort(steps, kind="stable") if np.any(np.diff(steps) < 0) else slice(None)
+    steps, a, b = steps[order], a[order], b[order]
+    ids, index = np.unique(np.concatenate((a, b)), return_inverse=True)
+    names = np.array([block.static_names[-1 - i] if i < 0 else block.names[i] for i in ids.tolist()], dtype=object)
+    name_a, name_b = names[index[:n]], names[index[n:]]
+    static = a < 0
+    # No signed zero: a velocity that .3f would write -0.000 (below half a thousandth, as a
+    # double: 0.0005 is a little more than 5e-4) is written 0.000.
+    after = np.column_stack((block.after_a[order, :dims], block.after_b[order, :dims]))
+    after = np.where(np.abs(after) < 0.0005, 0.0, after).astype(object)
+    after[static, :dims] = ""
+    arguments = np.empty((n, 6 + 2 * dims), dtype=object)
+    arguments[:, 0] = steps.astype(object)
+    arguments[:, 1] = block.time[order].astype(object)
+    arguments[:, 2] = np.where(static, name_b, name_a)  # "A and B collide", "B hits A"
+    arguments[:, 3] = np.where(static, name_a, name_b)
+    arguments[:, 4] = np.where(static, "", name_a)
+    arguments[:, 5 : 5 + dims] = after[:, :dims]
+    arguments[:, 5 + dims] = name_b
+    arguments[:, 6 + dims :] = after[:, dims:]
+    pair, obstacle = _block_templates(dims)
+    templates = np.where(static, obstacle, pair).astype(object).tolist()
+    values = arguments.ravel().tolist()
+    width = arguments.shape[1]
+    starts = [0, *(np.flatnonzero(np.diff(steps)) + 1).tolist()]
     out = []
-    for step, time, a_id, a, b, row in zip(
-        block.step.tolist(), block.time.tolist(), a_ids, names_a, names_b, velocities, strict=True
-    ):
-        head = f"collision at step {step} (t = {time:.3f} s): "
-        if a_id < 0:
-            lines = [head + f"{b} hits {a}", f"  velocity after: {b} = {vector(row[dims:])} m/s"]
-        else:
-            after = f"{a} = {vector(row[:dims])}, {b} = {vector(row[dims:])}"
-            lines = [head + f"{a} and {b} collide", f"  velocities after: {after} m/s"]
-        out.append((step, lines))
+    for start, stop in zip(starts, [*starts[1:], n], strict=True):
+        text = "".join(templates[start:stop]) % tuple(values[start * width : stop * width])
+        out.append((int(steps[start]), text))
     return out
 
 
@@ -158,7 +187,7 @@ class TableWriter:
         self._out, self._every, self._quiet, self._explain = out, every, quiet, explain
         self._dims = 3
         self._steps = 0
-        self._pending: list[tuple[int, list[str]]] = []  # (step, lines) not yet written
+        self._pending: list[tuple[int, str]] = []  # (step, its lines) not yet written
         self._header = False
 
     def begin(self, record: RunRecord) -> None:
@@ -169,11 +198,11 @@ class TableWriter:
 
     def _flush(self, below: int) -> None:
         kept = []
-        for step, lines in self._pending:
+        for step, text in self._pending:
             if step < below:
-                self._out.writelines(line + "\n" for line in lines)
+                self._out.write(text)
             else:
-                kept.append((step, lines))
+                kept.append((step, text))
         self._pending = kept
 
     def frame(self, frame: Frame) -> None:
@@ -189,15 +218,16 @@ class TableWriter:
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         by_step: dict[int, list[str]] = {}
         if isinstance(events, EventBlock) and not self._explain:  # a world's events: from their columns
-            for step, lines in _block_lines(events, self._dims):
-                by_step.setdefault(step, []).extend(lines)
+            for step, text in _block_texts(events, self._dims):
+                by_step.setdefault(step, []).append(text)
         else:
             for event in events:
-                by_step.setdefault(event.step, []).extend(_event_lines(event, self._dims, self._explain))
+                lines = _event_lines(event, self._dims, self._explain)
+                by_step.setdefault(event.step, []).extend(line + "\n" for line in lines)
         if self._explain:
             for skip in skipped:
-                by_step.setdefault(skip.step, []).append(_skip_line(skip))
-        self._pending += sorted(by_step.items(), key=lambda item: item[0])
+                by_step.setdefault(skip.step, []).append(_skip_line(skip) + "\n")
+        self._pending += sorted(((step, "".join(texts)) for step, texts in by_step.items()), key=lambda item: item[0])
         self._flush(reached)
 
     def warning(self, text: str) -> None:
