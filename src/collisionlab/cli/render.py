@@ -7,13 +7,13 @@ import csv
 import io
 import json
 import math
-import shutil
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from typing import IO, Any, TextIO
 
 import numpy as np
 
+from ..atomic import copy_file
 from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
@@ -307,7 +307,7 @@ class JsonWriter:
     :meth:`EventBlock.json_chunks <collisionlab.record.EventBlock.json_chunks>`). Frames go
     straight out; events and skipped contacts, which the object lists after the frames, wait in
     temporary files (disk, not memory), already with the commas between them, and are copied in
-    whole at the end. The object ends with ``}`` (no newline)."""
+    whole at the end (:func:`~collisionlab.atomic.copy_file`). The object ends with ``}`` (no newline)."""
 
     def __init__(self, out: TextIO, every: int = 1) -> None:
         self._out, self._every = out, every
@@ -353,8 +353,7 @@ class JsonWriter:
         for key, (spool, written) in self._spools.items():
             self._out.write(f",\n {json.dumps(key)}: [")
             if written[0]:
-                spool.seek(0)
-                shutil.copyfileobj(spool, self._out)  # in pieces: the spool may be larger than memory
+                copy_file(spool, self._out)  # not read into memory: the spool may be larger
                 self._out.write("\n ]")
             else:
                 self._out.write("]")
