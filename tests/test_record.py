@@ -12,12 +12,13 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
+from collisionlab import text_kernels
 from collisionlab.demos import load_demo
 from collisionlab.errors import InvalidInputError
-from collisionlab.record import CollisionEvent, EventBlock, RunRecord, _json_vectors, json_numbers
+from collisionlab.record import CollisionEvent, EventBlock, RunRecord, json_numbers
 from collisionlab.vector import Vector3D
 from collisionlab.world import simulate
 
@@ -188,17 +189,41 @@ _JSON_NUMBER_TEXT = re.compile(r"-?(?:0|[1-9][0-9]*)(?:\.[0-9]+)?(?:[eE][-+]?[0-
 
 
 @given(st.lists(_DOUBLES, min_size=1, max_size=60))
+@example([-0.0, 5e-324, -2.225073858507201e-308, 1e-7, 1e-5, 1e16, 2.0**53 + 2, -1.7976931348623157e308, 100.0])
 def test_every_number_written_reads_back_as_the_same_double(values: list[float]) -> None:
-    # Each number's text, alone (json_numbers) and in the vectors of an event's line: a JSON
-    # number that json.loads reads as a float, the same double to the bit; -0.0 written 0.0.
-    array = np.array(values)
-    vectors = np.resize(array, (-(-len(values) // 3), 3))
-    texts = json_numbers(array)
-    vector_texts = [t for row in _json_vectors(vectors) for t in row.split(", ")]
-    for value, text in [*zip(values, texts, strict=True), *zip(vectors.ravel().tolist(), vector_texts, strict=True)]:
+    # Each number's text, alone (json_numbers) and where a block's lines put it (every number
+    # column of an event): a JSON number that json.loads reads as a float, the same double to
+    # the bit; -0.0 written 0.0.
+    for value, text in zip(values, json_numbers(np.array(values)), strict=True):
         assert _JSON_NUMBER_TEXT.fullmatch(text), text
         read = json.loads(text)
         assert isinstance(read, float) and _bits(read) == _bits(value + 0.0), (value, text)
+    rows = -(-len(values) // 22)
+    drawn = np.resize(np.array(values), (rows, 22))
+    block = EventBlock(
+        step=np.arange(rows), time=drawn[:, 0], a=np.zeros(rows, np.int64), b=np.ones(rows, np.int64),
+        normal=drawn[:, 1:4], point=drawn[:, 4:7], approach_speed=drawn[:, 7], impulse=drawn[:, 8],
+        restitution=drawn[:, 9], below_rest=np.zeros(rows, np.int64), before_a=drawn[:, 10:13],
+        before_b=drawn[:, 13:16], after_a=drawn[:, 16:19], after_b=drawn[:, 19:22],
+        names=["a", "b"], static_names=[], masses=np.array([1.0, 2.0]),
+    )  # fmt: skip
+    for line, row in zip(block.json_lines(), drawn.tolist(), strict=True):
+        event = json.loads(line)
+        written = [event["time"], *event["normal"], *event["point"], event["approach_speed"], event["impulse"]]
+        written += [event["restitution"], *event["velocities_before"]["a"], *event["velocities_before"]["b"]]
+        written += [*event["velocities_after"]["a"], *event["velocities_after"]["b"]]
+        assert [_bits(x) for x in written] == [_bits(x + 0.0) for x in row]
+        for text in _JSON_NUMBER.findall(line):  # (an energy may overflow, 1e300^2: Infinity is no number here)
+            assert _JSON_NUMBER_TEXT.fullmatch(text), text
+
+
+def test_event_block_json_compiled_is_its_python_form(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The lines are laid out by text_kernels.lay_out compiled by numba; the same function run
+    # as Python writes the same text.
+    block = _block(60, 3)
+    compiled = "".join(block.json_chunks(",\n  ", size=16))
+    monkeypatch.setattr(text_kernels, "compiled", lambda: text_kernels.lay_out)
+    assert "".join(block.json_chunks(",\n  ", size=16)) == compiled
 
 
 def test_event_block_builds_events_on_demand() -> None:

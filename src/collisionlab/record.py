@@ -5,6 +5,7 @@ One record feeds every output (table, CSV, JSON, plots), so nothing is simulated
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import string
@@ -16,6 +17,7 @@ import numpy as np
 import orjson
 from numpy.typing import NDArray
 
+from . import text_kernels
 from .built_sequence import BuiltSequence
 from .vector import Vector3D
 
@@ -162,17 +164,25 @@ class CollisionEvent:
 
 
 #: One event's line of JSON, laid out as ``json.dumps(event.to_dict())`` lays it out, with a
-#: field in braces for each column that :meth:`EventBlock._json_text` fills: ``a`` and ``b``
-#: the bodies' quoted names, ``a_before`` and ``a_after`` the entry of body A's velocity
-#: (``"name": [x, y, z], ``; empty against an obstacle, which has none), the vectors as
-#: ``x, y, z``, ``static`` and ``below_rest`` as ``true`` or ``false``.
+#: field in braces for each of its values: ``a`` and ``b`` the bodies' quoted names, a vector's
+#: three numbers as ``x, y, z``, ``static`` and ``below_rest`` as ``true`` or ``false``. Against
+#: an obstacle (which has no velocities) each of body A's velocity entries, from ``{a}`` to the
+#: ``], `` after ``{before_a}`` or ``{after_a}``, is left out.
 _EVENT_JSON = (
     '{{"step": {step}, "time": {time}, "bodies": [{a}, {b}], "static": {static}, "normal": [{normal}], '
     '"point": [{point}], "approach_speed": {approach_speed}, "impulse": {impulse}, "restitution": {restitution}, '
-    '"velocities_before": {{{a_before}{b}: [{before_b}]}}, "velocities_after": {{{a_after}{b}: [{after_b}]}}, '
+    '"velocities_before": {{{a}: [{before_a}], {b}: [{before_b}]}}, '
+    '"velocities_after": {{{a}: [{after_a}], {b}: [{after_b}]}}, '
     '"kinetic_energy_before": {kinetic_before}, "kinetic_energy_after": {kinetic_after}, '
     '"below_rest_threshold": {below_rest}}}'
 )
+#: The fields of :data:`_EVENT_JSON` that are numbers: how many each.
+_NUMBER_FIELDS = {
+    "time": 1, "normal": 3, "point": 3, "approach_speed": 1, "impulse": 1, "restitution": 1,
+    "before_a": 3, "before_b": 3, "after_a": 3, "after_b": 3, "kinetic_before": 1, "kinetic_after": 1,
+}  # fmt: skip
+#: The fields that are flags: the column of :meth:`EventBlock.json_chunks`'s flags.
+_FLAG_FIELDS = {"static": 0, "below_rest": 1}
 
 
 def _pieces(template: str) -> list[tuple[str, str | None]]:
@@ -189,9 +199,44 @@ def _pieces(template: str) -> list[tuple[str, str | None]]:
     return pieces
 
 
-#: :data:`_EVENT_JSON` as :func:`_pieces`.
-_EVENT_PIECES = _pieces(_EVENT_JSON)
-_FALSE_TRUE = np.array(["false", "true"], dtype=object)
+@functools.cache
+def _event_program(separator: str) -> tuple[NDArray[np.int64], NDArray[np.uint8], NDArray[np.int64], list[str]]:
+    """:data:`_EVENT_JSON` after ``separator`` as a program of :func:`text_kernels.lay_out
+    <collisionlab.text_kernels.lay_out>`: its rows, its literals and their bounds, and the
+    number fields in the order it reads them."""
+    literals: list[bytes] = []
+    rows: list[tuple[int, int, int, int]] = []
+    order: list[str] = []
+
+    def literal(text: str, pair_only: bool) -> None:
+        if text:
+            literals.append(text.encode())
+            rows.append((text_kernels.LITERAL, len(literals) - 1, 0, int(pair_only)))
+
+    pieces = _pieces(_EVENT_JSON)
+    fields = [name for _, name in pieces]
+    entries = {fields.index("before_a"), fields.index("after_a")}  # {a}: [{vector}], : pairs only
+    for j, (text, name) in enumerate(pieces):
+        if j - 1 in entries:
+            assert text.startswith("], ")
+            literal("], ", True)
+            literal(text[3:], False)
+        else:
+            literal(separator + text if j == 0 else text, j in entries)
+        pair_only = j in entries or (j + 1 in entries and name == "a")
+        if name in _NUMBER_FIELDS:
+            order.append(name)
+            for k in range(_NUMBER_FIELDS[name]):
+                literal(", " if k else "", pair_only)
+                rows.append((text_kernels.NUMBER, 0, 0, int(pair_only)))
+        elif name in _FLAG_FIELDS:
+            literals += [b"false", b"true"]
+            rows.append((text_kernels.FLAG, len(literals) - 2, _FLAG_FIELDS[name], int(pair_only)))
+        elif name is not None:
+            operation = {"a": text_kernels.NAME_A, "b": text_kernels.NAME_B, "step": text_kernels.STEP}[name]
+            rows.append((operation, 0, 0, int(pair_only)))
+    bounds = np.cumsum([0, *map(len, literals)], dtype=np.int64)
+    return np.array(rows, dtype=np.int64), np.frombuffer(b"".join(literals), np.uint8), bounds, order
 
 
 def json_numbers(values: NDArray[np.float64]) -> list[str]:
@@ -214,15 +259,13 @@ def json_numbers(values: NDArray[np.float64]) -> list[str]:
     return texts
 
 
-def _json_vectors(values: NDArray[np.float64]) -> list[str]:
-    """Each row of the ``(n, 3)`` ``values`` as JSON's ``x, y, z`` (:func:`json_numbers`'s
-    numbers)."""
-    values = np.add(values, 0.0, order="C")
-    text = orjson.dumps(values, option=orjson.OPT_SERIALIZE_NUMPY).decode()
-    texts = text[2:-2].replace(",", ", ").split("], [")
-    for i in np.flatnonzero(~np.isfinite(values).all(axis=1)).tolist():
-        texts[i] = ", ".join(json_numbers(values[i]))
-    return texts
+def _json_array(values: NDArray[np.float64]) -> bytes:
+    """The numbers of ``values`` (row by row) as a JSON array, each as :func:`json_numbers`
+    writes it."""
+    flat = np.add(np.ravel(values), 0.0)
+    if np.isfinite(flat).all():
+        return orjson.dumps(flat, option=orjson.OPT_SERIALIZE_NUMPY)
+    return ("[" + ",".join(json_numbers(flat)) + "]").encode()
 
 
 class EventBlock(BuiltSequence[CollisionEvent]):
@@ -326,70 +369,44 @@ class EventBlock(BuiltSequence[CollisionEvent]):
         the numbers' text (:func:`json_numbers`)."""
         return [line for text in self.json_chunks("\n") for line in text[1:].split("\n")]
 
-    def json_chunks(self, separator: str, size: int = 4096) -> Iterator[str]:
+    def json_chunks(self, separator: str, size: int = 16384) -> Iterator[str]:
         """The JSON of every event (:meth:`json_lines`), each after ``separator``, joined in
-        pieces of ``size`` events. Written from the columns, a column at a time, without a loop
-        over the events in Python (a run of a heap of balls makes millions)."""
+        pieces of ``size`` events: the numbers' text written by orjson a block at a time, and
+        the lines laid out from it by compiled code (:mod:`collisionlab.text_kernels`), with no
+        loop over the events in Python (a run of a heap of balls makes millions)."""
         if not len(self):
             return
+        program, literals, literal_bounds, order = _event_program(separator)
         # The names of the bodies in the block, each quoted once, by the json module: a newline
         # between them (inside a name it is escaped) cuts them apart again.
         ids, index = np.unique(np.concatenate((self.a, self.b)), return_inverse=True)
-        named = list(map(self._name, ids.tolist()))
-        quoted = np.array(json.dumps(named, separators=("\n", ":"))[1:-1].split("\n"), dtype=object)
-        index_a, index_b = index[: len(self)], index[len(self) :]
-        scalars = np.column_stack(
-            (self.time, self.approach_speed, self.impulse, self.restitution, self.kinetic_before, self.kinetic_after)
-        )
-        vectors = np.stack((self.normal, self.point, self.before_a, self.before_b, self.after_a, self.after_b), axis=1)
+        quoted = json.dumps(list(map(self._name, ids.tolist())), separators=("\n", ":"))[1:-1].split("\n")
+        names = np.frombuffer("".join(quoted).encode(), np.uint8)  # ASCII: the json module escapes the rest
+        name_bounds = np.cumsum([0, *map(len, quoted)], dtype=np.int64)
+        name_a, name_b = index[: len(self)].astype(np.int64), index[len(self) :].astype(np.int64)
+        columns = {
+            "time": self.time, "normal": self.normal, "point": self.point, "approach_speed": self.approach_speed,
+            "impulse": self.impulse, "restitution": self.restitution, "before_a": self.before_a,
+            "before_b": self.before_b, "after_a": self.after_a, "after_b": self.after_b,
+            "kinetic_before": self.kinetic_before, "kinetic_after": self.kinetic_after,
+        }  # fmt: skip
+        numbers = np.column_stack([columns[name] for name in order])
+        flags = np.column_stack((self.a < 0, self.below_rest != 0))
+        steps = np.ascontiguousarray(self.step, dtype=np.int64)
+        lengths = np.diff(name_bounds)
+        # Bytes an event writes besides its numbers and names: at most every literal, a step.
+        fixed = int(literal_bounds[-1]) + 20
+        lay_out = text_kernels.compiled()
         for start in range(0, len(self), size):
             rows = slice(start, start + size)
-            yield self._json_text(
-                rows, separator, quoted[index_a[rows]], quoted[index_b[rows]], scalars[rows], vectors[rows]
-            )
-
-    def _json_text(
-        self,
-        rows: slice,
-        separator: str,
-        a: NDArray[np.object_],
-        b: NDArray[np.object_],
-        scalars: NDArray[np.float64],
-        vectors: NDArray[np.float64],
-    ) -> str:
-        """:meth:`json_chunks`'s text of the events ``rows``, given their quoted names, their
-        ``(m, 6)`` scalars and ``(m, 6, 3)`` vectors (in the orders :meth:`json_chunks` stacks them)."""
-        m = len(a)
-        numbers = np.array(json_numbers(scalars), dtype=object).reshape(m, 6)
-        vector = np.array(_json_vectors(vectors.reshape(m * 6, 3)), dtype=object).reshape(m, 6)
-        static = self.a[rows] < 0
-        empty = np.full(m, "", dtype=object)
-        steps = orjson.dumps(np.ascontiguousarray(self.step[rows], dtype=np.int64), option=orjson.OPT_SERIALIZE_NUMPY)
-        columns = {
-            "step": np.array(steps.decode()[1:-1].split(","), dtype=object),
-            "time": numbers[:, 0],
-            "a": a,
-            "b": b,
-            "static": _FALSE_TRUE[static.astype(np.intp)],
-            "normal": vector[:, 0],
-            "point": vector[:, 1],
-            "approach_speed": numbers[:, 1],
-            "impulse": numbers[:, 2],
-            "restitution": numbers[:, 3],
-            "a_before": np.where(static, empty, a + ": [" + vector[:, 2] + "], "),
-            "before_b": vector[:, 3],
-            "a_after": np.where(static, empty, a + ": [" + vector[:, 4] + "], "),
-            "after_b": vector[:, 5],
-            "kinetic_before": numbers[:, 4],
-            "kinetic_after": numbers[:, 5],
-            "below_rest": _FALSE_TRUE[(self.below_rest[rows] != 0).astype(np.intp)],
-        }
-        pieces = np.empty((m, 2 * len(_EVENT_PIECES) - 1), dtype=object)
-        for j, (literal, name) in enumerate(_EVENT_PIECES):
-            pieces[:, 2 * j] = separator + literal if j == 0 else literal
-            if name is not None:
-                pieces[:, 2 * j + 1] = columns[name]
-        return "".join(pieces.ravel().tolist())
+            text = _json_array(numbers[rows])
+            a, b = name_a[rows], name_b[rows]
+            out = np.empty(len(text) + len(a) * fixed + 3 * int(lengths[a].sum() + lengths[b].sum()), np.uint8)
+            written = lay_out(
+                np.frombuffer(text, np.uint8), steps[rows], a, b, flags[rows], names, name_bounds,
+                program, literals, literal_bounds, out,
+            )  # fmt: skip
+            yield out[:written].tobytes().decode()
 
 
 @dataclass(frozen=True)
