@@ -13,6 +13,7 @@ from typing import Any
 
 import pytest
 
+from collisionlab import atomic
 from collisionlab.atomic import atomic_path, copy_file
 from tests.cli_helpers import files_in
 
@@ -67,10 +68,15 @@ def test_a_failure_leaves_the_target_as_it_was_and_no_temporary_file(tmp_path: P
     assert target.read_text() == "old" and files_in(tmp_path) == ["keep.txt"]
 
 
+@pytest.mark.parametrize("sendfile", [True, False])
 @pytest.mark.parametrize("target_kind", ["file", "memory", "pipe"])
-def test_copy_file_appends_the_whole_source_to_what_was_written(tmp_path: Path, target_kind: str) -> None:
-    # Between two files on disk the kernel copies the bytes (os.sendfile); the stream must then
-    # go on writing after them. Into memory or a pipe, the copy goes through Python.
+def test_copy_file_appends_the_whole_source_to_what_was_written(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, target_kind: str, sendfile: bool
+) -> None:
+    # Between two files on disk on Linux the kernel copies the bytes (os.sendfile); the stream
+    # must then go on writing after them. Into memory or a pipe, or on another system (macOS's
+    # sendfile sends to sockets only, Windows has none), the copy goes through Python.
+    monkeypatch.setattr(atomic, "_SENDFILE", atomic._SENDFILE and sendfile)
     text = "événement ☃,\n" * 50_000  # 700 kB, not ASCII
     received: list[bytes] = []
     if target_kind == "file":

@@ -14,6 +14,7 @@ import contextlib
 import os
 import shutil
 import stat
+import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -131,13 +132,19 @@ def _regular(stream: IO[str]) -> int | None:
         return None
 
 
+#: Whether the kernel copies between two files (Linux's sendfile; macOS's sends to sockets
+#: only, Windows has none), as :mod:`shutil` decides it.
+_SENDFILE = hasattr(os, "sendfile") and sys.platform.startswith("linux")
+
+
 def copy_file(source: IO[str], target: IO[str]) -> None:
     """Write the whole of ``source`` (a file, from its start, whatever has been read of it) at the
-    end of what was written to ``target``. Between two regular files the kernel copies the bytes
-    (``os.sendfile``: a run's JSON can be hundreds of megabytes, not decoded and encoded again);
-    otherwise (a pipe, a device, a stream in memory) they go through Python, a megabyte at a time."""
+    end of what was written to ``target``. Between two regular files on Linux the kernel copies
+    the bytes (``os.sendfile``: a run's JSON can be hundreds of megabytes, not decoded and
+    encoded again); otherwise (a pipe, a device, a stream in memory, another system) they go
+    through Python, a megabyte at a time."""
     source_descriptor, target_descriptor = _regular(source), _regular(target)
-    if source_descriptor is None or target_descriptor is None:
+    if not _SENDFILE or source_descriptor is None or target_descriptor is None:
         source.seek(0)
         shutil.copyfileobj(source, target, 1 << 20)
         return
