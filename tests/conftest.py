@@ -6,6 +6,7 @@ inside tests). The example count stays at hypothesis' default of 100.
 
 from __future__ import annotations
 
+import io
 import os
 
 import pytest
@@ -19,9 +20,11 @@ settings.load_profile("collisionlab")
 def _compiled_engine() -> None:
     """Compile the engine's kernels (or load numba's cache) once, before any test: a test that
     waits for a program's output must not wait for the compiler instead. All three steppers:
-    Forward Euler, exact, event-driven, and the particle kernels. Under pytest-xdist, odd
+    Forward Euler, exact, event-driven, the particle kernels, and the kernel that lays out the
+    JSON of a world's collisions (a bouncing ball's run written as JSON). Under pytest-xdist, odd
     workers take them in the opposite order: two workers compile different kernels at once,
     and each then loads the other's from numba's cache (its writes are atomic)."""
+    from collisionlab.cli.render import JsonWriter
     from collisionlab.demos import load_demo
     from collisionlab.edmd.observables import ExactGas
     from collisionlab.engine import WorldParams
@@ -37,7 +40,11 @@ def _compiled_engine() -> None:
     def event_driven() -> None:
         ExactGas(n=20, dim=2, fraction=0.1, time=0.1).world().run(0.1)
 
-    order = [warm_up, euler, exact, event_driven]
+    def json_lines() -> None:
+        world = World(load_demo("bouncing-ball").with_settings(mode="euler"), WorldParams(compiled=True))
+        world.run(observer=JsonWriter(io.StringIO()), keep=False)
+
+    order = [warm_up, euler, exact, event_driven, json_lines]
     if int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0) % 2:
         order.reverse()
     for compile_or_load in order:

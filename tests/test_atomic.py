@@ -3,13 +3,18 @@ user's path (issue 11, item 10: every writer, not only --output)."""
 
 from __future__ import annotations
 
+import io
 import os
 import stat
+import tempfile
+import threading
 from pathlib import Path
+from typing import Any
 
 import pytest
 
-from collisionlab.atomic import atomic_path
+from collisionlab import atomic
+from collisionlab.atomic import atomic_path, copy_file
 from tests.cli_helpers import files_in
 
 
@@ -61,3 +66,44 @@ def test_a_failure_leaves_the_target_as_it_was_and_no_temporary_file(tmp_path: P
         temporary.write_text("half")
         raise KeyboardInterrupt
     assert target.read_text() == "old" and files_in(tmp_path) == ["keep.txt"]
+
+
+@pytest.mark.parametrize("sendfile", [True, False])
+@pytest.mark.parametrize("target_kind", ["file", "memory", "pipe"])
+def test_copy_file_appends_the_whole_source_to_what_was_written(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, target_kind: str, sendfile: bool
+) -> None:
+    # Between two files on disk on Linux the kernel copies the bytes (os.sendfile); the stream
+    # must then go on writing after them. Into memory or a pipe, or on another system (macOS's
+    # sendfile sends to sockets only, Windows has none), the copy goes through Python.
+    monkeypatch.setattr(atomic, "_SENDFILE", atomic._SENDFILE and sendfile)
+    text = "événement ☃,\n" * 50_000  # 700 kB, not ASCII
+    received: list[bytes] = []
+    if target_kind == "file":
+        target: Any = open(tmp_path / "out.txt", "w", encoding="utf-8")  # noqa: SIM115
+    elif target_kind == "memory":
+        target = io.StringIO()
+    else:
+        reader, writer = os.pipe()
+        target = open(writer, "w", encoding="utf-8")  # noqa: SIM115
+        drain = threading.Thread(target=lambda: received.extend(iter(lambda: os.read(reader, 1 << 16), b"")))
+        drain.start()
+    with tempfile.TemporaryFile("w+", encoding="utf-8") as source:
+        source.write(text)
+        source.seek(100)  # whatever has been read of it: the whole is copied
+        target.write("head ")
+        copy_file(source, target)
+        target.write(" middle ")
+        copy_file(source, target)
+        target.write(" tail")
+    if target_kind == "memory":
+        written = target.getvalue()
+    else:
+        target.close()
+        if target_kind == "file":
+            written = (tmp_path / "out.txt").read_text(encoding="utf-8")
+        else:
+            drain.join()
+            os.close(reader)
+            written = b"".join(received).decode()
+    assert written == f"head {text} middle {text} tail"

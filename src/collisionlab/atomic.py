@@ -14,6 +14,7 @@ import contextlib
 import os
 import shutil
 import stat
+import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -21,7 +22,14 @@ from typing import IO
 
 from .errors import InvalidInputError, escape_controls
 
-__all__ = ["atomic_path", "check_target", "copy_atomically", "write_atomically", "write_text_atomically"]
+__all__ = [
+    "atomic_path",
+    "check_target",
+    "copy_atomically",
+    "copy_file",
+    "write_atomically",
+    "write_text_atomically",
+]
 
 
 def _umask() -> int:
@@ -110,9 +118,45 @@ def write_text_atomically(target: str | Path, produce: Callable[[], str]) -> Non
 
 
 def copy_atomically(target: str | Path, source: IO[str]) -> None:
-    """Write what is left to read of ``source`` to ``target`` atomically, in pieces (a long run's
-    output need not fit in memory), as :func:`write_text_atomically`."""
-    write_atomically(target, lambda stream: shutil.copyfileobj(source, stream))
+    """Write the whole of ``source`` (a file from its start) to ``target`` atomically, in pieces
+    (a long run's output need not fit in memory), as :func:`write_text_atomically`."""
+    write_atomically(target, lambda stream: copy_file(source, stream))
+
+
+def _regular(stream: IO[str]) -> int | None:
+    """The descriptor of ``stream`` if it is a regular file's, else ``None``."""
+    try:
+        descriptor = stream.fileno()
+        return descriptor if stat.S_ISREG(os.fstat(descriptor).st_mode) else None
+    except (AttributeError, OSError, ValueError):  # io.UnsupportedOperation is an OSError and a ValueError
+        return None
+
+
+#: Whether the kernel copies between two files (Linux's sendfile; macOS's sends to sockets
+#: only, Windows has none), as :mod:`shutil` decides it.
+_SENDFILE = hasattr(os, "sendfile") and sys.platform.startswith("linux")
+
+
+def copy_file(source: IO[str], target: IO[str]) -> None:
+    """Write the whole of ``source`` (a file, from its start, whatever has been read of it) at the
+    end of what was written to ``target``. Between two regular files on Linux the kernel copies
+    the bytes (``os.sendfile``: a run's JSON can be hundreds of megabytes, not decoded and
+    encoded again); otherwise (a pipe, a device, a stream in memory, another system) they go
+    through Python, a megabyte at a time."""
+    source_descriptor, target_descriptor = _regular(source), _regular(target)
+    if not _SENDFILE or source_descriptor is None or target_descriptor is None:
+        source.seek(0)
+        shutil.copyfileobj(source, target, 1 << 20)
+        return
+    source.flush()
+    target.flush()
+    offset, size = 0, os.fstat(source_descriptor).st_size
+    while offset < size:
+        sent = os.sendfile(target_descriptor, source_descriptor, offset, size - offset)
+        if sent == 0:  # the source was cut short meanwhile
+            break
+        offset += sent
+    target.seek(0, os.SEEK_END)  # the stream's idea of its position follows the descriptor's
 
 
 def write_atomically(target: str | Path, write: Callable[[IO[str]], object]) -> None:

@@ -5,15 +5,19 @@ One record feeds every output (table, CSV, JSON, plots), so nothing is simulated
 
 from __future__ import annotations
 
+import functools
 import json
 import math
-from collections.abc import Sequence
+import string
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal, Protocol
 
 import numpy as np
+import orjson
 from numpy.typing import NDArray
 
+from . import text_kernels
 from .built_sequence import BuiltSequence
 from .vector import Vector3D
 
@@ -159,28 +163,117 @@ class CollisionEvent:
         }
 
 
-#: One line of JSON per event, as ``json.dumps(event.to_dict())`` writes it: the template of a
-#: pair of bodies and of a body against an obstacle (which has only the body's velocities).
-_PAIR_JSON = (
-    '{"step": %d, "time": %r, "bodies": [%s, %s], "static": false, "normal": [%r, %r, %r], '
-    '"point": [%r, %r, %r], "approach_speed": %r, "impulse": %r, "restitution": %r, '
-    '"velocities_before": {%s: [%r, %r, %r], %s: [%r, %r, %r]}, '
-    '"velocities_after": {%s: [%r, %r, %r], %s: [%r, %r, %r]}, '
-    '"kinetic_energy_before": %r, "kinetic_energy_after": %r, "below_rest_threshold": %s}'
+#: One event's line of JSON, laid out as ``json.dumps(event.to_dict())`` lays it out, with a
+#: field in braces for each of its values: ``a`` and ``b`` the bodies' quoted names, a vector's
+#: three numbers as ``x, y, z``, ``static`` and ``below_rest`` as ``true`` or ``false``. Against
+#: an obstacle (which has no velocities) each of body A's velocity entries, from ``{a}`` to the
+#: ``], `` after ``{before_a}`` or ``{after_a}``, is left out.
+_EVENT_JSON = (
+    '{{"step": {step}, "time": {time}, "bodies": [{a}, {b}], "static": {static}, "normal": [{normal}], '
+    '"point": [{point}], "approach_speed": {approach_speed}, "impulse": {impulse}, "restitution": {restitution}, '
+    '"velocities_before": {{{a}: [{before_a}], {b}: [{before_b}]}}, '
+    '"velocities_after": {{{a}: [{after_a}], {b}: [{after_b}]}}, '
+    '"kinetic_energy_before": {kinetic_before}, "kinetic_energy_after": {kinetic_after}, '
+    '"below_rest_threshold": {below_rest}}}'
 )
-_STATIC_JSON = (
-    '{"step": %d, "time": %r, "bodies": [%s, %s], "static": true, "normal": [%r, %r, %r], '
-    '"point": [%r, %r, %r], "approach_speed": %r, "impulse": %r, "restitution": %r, '
-    '"velocities_before": {%s: [%r, %r, %r]}, "velocities_after": {%s: [%r, %r, %r]}, '
-    '"kinetic_energy_before": %r, "kinetic_energy_after": %r, "below_rest_threshold": %s}'
-)
+#: The fields of :data:`_EVENT_JSON` that are numbers: how many each.
+_NUMBER_FIELDS = {
+    "time": 1, "normal": 3, "point": 3, "approach_speed": 1, "impulse": 1, "restitution": 1,
+    "before_a": 3, "before_b": 3, "after_a": 3, "after_b": 3, "kinetic_before": 1, "kinetic_after": 1,
+}  # fmt: skip
+#: The fields that are flags: the column of :meth:`EventBlock.json_chunks`'s flags.
+_FLAG_FIELDS = {"static": 0, "below_rest": 1}
+
+
+def _pieces(template: str) -> list[tuple[str, str | None]]:
+    """``template`` as (literal text, the field after it), the last field ``None``.
+
+    >>> _pieces("{{a: {x}}}")
+    [('{a: ', 'x'), ('}', None)]
+    """
+    pieces: list[tuple[str, str | None]] = [("", None)]
+    for literal, name, _, _ in string.Formatter().parse(template):
+        pieces[-1] = (pieces[-1][0] + literal, name)  # an escaped brace ends a literal without a field
+        if name is not None:
+            pieces.append(("", None))
+    return pieces
+
+
+@functools.cache
+def _event_program(separator: str) -> tuple[NDArray[np.int64], NDArray[np.uint8], NDArray[np.int64], list[str]]:
+    """:data:`_EVENT_JSON` after ``separator`` as a program of :func:`text_kernels.lay_out
+    <collisionlab.text_kernels.lay_out>`: its rows, its literals and their bounds, and the
+    number fields in the order it reads them."""
+    literals: list[bytes] = []
+    rows: list[tuple[int, int, int, int]] = []
+    order: list[str] = []
+
+    def literal(text: str, pair_only: bool) -> None:
+        if text:
+            literals.append(text.encode())
+            rows.append((text_kernels.LITERAL, len(literals) - 1, 0, int(pair_only)))
+
+    pieces = _pieces(_EVENT_JSON)
+    fields = [name for _, name in pieces]
+    entries = {fields.index("before_a"), fields.index("after_a")}  # {a}: [{vector}], : pairs only
+    for j, (text, name) in enumerate(pieces):
+        if j - 1 in entries:
+            assert text.startswith("], ")
+            literal("], ", True)
+            literal(text[3:], False)
+        else:
+            literal(separator + text if j == 0 else text, j in entries)
+        pair_only = j in entries or (j + 1 in entries and name == "a")
+        if name in _NUMBER_FIELDS:
+            order.append(name)
+            for k in range(_NUMBER_FIELDS[name]):
+                literal(", " if k else "", pair_only)
+                rows.append((text_kernels.NUMBER, 0, 0, int(pair_only)))
+        elif name in _FLAG_FIELDS:
+            literals += [b"false", b"true"]
+            rows.append((text_kernels.FLAG, len(literals) - 2, _FLAG_FIELDS[name], int(pair_only)))
+        elif name is not None:
+            operation = {"a": text_kernels.NAME_A, "b": text_kernels.NAME_B, "step": text_kernels.STEP}[name]
+            rows.append((operation, 0, 0, int(pair_only)))
+    bounds = np.cumsum([0, *map(len, literals)], dtype=np.int64)
+    return np.array(rows, dtype=np.int64), np.frombuffer(b"".join(literals), np.uint8), bounds, order
+
+
+def json_numbers(values: NDArray[np.float64]) -> list[str]:
+    """The JSON text of each number of ``values`` (row by row): the shortest that reads back as
+    the same double, as ``repr`` finds it, but written by orjson, about ten times faster (the
+    text of some numbers is not repr's: ``1e-7`` for ``1e-07``, and ``0.00001`` or ``1e-5``,
+    as orjson's version has it, for ``1e-05``; the same doubles), and ``0.0`` for ``-0.0`` (a
+    signed zero reads as another number). A NaN or an infinity, which orjson writes ``null``, is
+    written as the json module writes it (``NaN``, ``Infinity``: not standard JSON, but what
+    the rest of the output writes).
+
+    >>> json_numbers(np.array([[0.1, -0.0], [1.5, 100.0]]))
+    ['0.1', '0.0', '1.5', '100.0']
+    >>> json_numbers(np.array([np.inf, -np.inf, np.nan, 1.0]))
+    ['Infinity', '-Infinity', 'NaN', '1.0']
+    """
+    flat = np.add(np.ravel(values), 0.0)  # a new, contiguous array (orjson takes no views)
+    texts = orjson.dumps(flat, option=orjson.OPT_SERIALIZE_NUMPY).decode()[1:-1].split(",")
+    for i in np.flatnonzero(~np.isfinite(flat)).tolist():
+        texts[i] = json.dumps(flat[i].item())
+    return texts
+
+
+def _json_array(values: NDArray[np.float64]) -> bytes:
+    """The numbers of ``values`` (row by row) as a JSON array, each as :func:`json_numbers`
+    writes it."""
+    flat = np.add(np.ravel(values), 0.0)
+    if np.isfinite(flat).all():
+        return orjson.dumps(flat, option=orjson.OPT_SERIALIZE_NUMPY)
+    return ("[" + ",".join(json_numbers(flat)) + "]").encode()
 
 
 class EventBlock(BuiltSequence[CollisionEvent]):
     """Collision events as columns of numbers, one row per event, in the order they happened:
     how a world hands over a stretch of its run. ``block[i]`` (and iteration) builds the
-    :class:`CollisionEvent`; :meth:`json_lines` writes the JSON form of every event without
-    building them (a run of a heap of balls makes millions).
+    :class:`CollisionEvent`; :meth:`json_chunks` and :meth:`json_lines` write the JSON form of
+    every event without building them (a run of a heap of balls makes millions).
 
     ``a`` and ``b`` are indices into ``names`` (``a < 0``: the obstacle ``static_names[-1 - a]``),
     ``masses`` the bodies' masses in the order of ``names``; ``normal``, ``point``,
@@ -273,43 +366,48 @@ class EventBlock(BuiltSequence[CollisionEvent]):
         )
 
     def json_lines(self) -> list[str]:
-        """Each event's JSON (no newline), the same text as ``json.dumps(event.to_dict())``."""
+        """Each event's JSON (no newline): the text of ``json.dumps(event.to_dict())``, but for
+        the numbers' text (:func:`json_numbers`)."""
+        return [line for text in self.json_chunks("\n") for line in text[1:].split("\n")]
+
+    def json_chunks(self, separator: str, size: int = 16384) -> Iterator[str]:
+        """The JSON of every event (:meth:`json_lines`), each after ``separator``, joined in
+        pieces of ``size`` events: the numbers' text written by orjson a block at a time, and
+        the lines laid out from it by compiled code (:mod:`collisionlab.text_kernels`), with no
+        loop over the events in Python (a run of a heap of balls makes millions)."""
         if not len(self):
-            return []
-        quoted = {i: json.dumps(self._name(i)) for i in set(self.a.tolist()) | set(self.b.tolist())}
-        # Rows of Python floats (``+ 0.0``: no signed zero, as to_dict writes them).
-        numbers = np.column_stack(
-            (
-                self.time,
-                self.normal,
-                self.point,
-                self.approach_speed,
-                self.impulse,
-                self.restitution,
-                self.before_a,
-                self.before_b,
-                self.after_a,
-                self.after_b,
-                self.kinetic_before,
-                self.kinetic_after,
-            )
-        )
-        rows = (numbers + 0.0).tolist()
-        lines = []
-        for step, a, b, below, r in zip(
-            self.step.tolist(), self.a.tolist(), self.b.tolist(), self.below_rest.tolist(), rows, strict=True
-        ):
-            qa, qb = quoted[a], quoted[b]
-            flag = "true" if below else "false"
-            if a < 0:
-                lines.append(
-                    _STATIC_JSON % (step, r[0], qa, qb, *r[1:10], qb, *r[13:16], qb, *r[19:22], r[22], r[23], flag)
-                )
-            else:
-                before = (qa, *r[10:13], qb, *r[13:16])
-                after = (qa, *r[16:19], qb, *r[19:22])
-                lines.append(_PAIR_JSON % (step, r[0], qa, qb, *r[1:10], *before, *after, r[22], r[23], flag))
-        return lines
+            return
+        program, literals, literal_bounds, order = _event_program(separator)
+        # The names of the bodies in the block, each quoted once, by the json module: a newline
+        # between them (inside a name it is escaped) cuts them apart again.
+        ids, index = np.unique(np.concatenate((self.a, self.b)), return_inverse=True)
+        quoted = json.dumps(list(map(self._name, ids.tolist())), separators=("\n", ":"))[1:-1].split("\n")
+        names = np.frombuffer("".join(quoted).encode(), np.uint8)  # ASCII: the json module escapes the rest
+        name_bounds = np.cumsum([0, *map(len, quoted)], dtype=np.int64)
+        name_a, name_b = index[: len(self)].astype(np.int64), index[len(self) :].astype(np.int64)
+        columns = {
+            "time": self.time, "normal": self.normal, "point": self.point, "approach_speed": self.approach_speed,
+            "impulse": self.impulse, "restitution": self.restitution, "before_a": self.before_a,
+            "before_b": self.before_b, "after_a": self.after_a, "after_b": self.after_b,
+            "kinetic_before": self.kinetic_before, "kinetic_after": self.kinetic_after,
+        }  # fmt: skip
+        numbers = np.column_stack([columns[name] for name in order])
+        flags = np.column_stack((self.a < 0, self.below_rest != 0))
+        steps = np.ascontiguousarray(self.step, dtype=np.int64)
+        lengths = np.diff(name_bounds)
+        # Bytes an event writes besides its numbers and names: at most every literal, a step.
+        fixed = int(literal_bounds[-1]) + 20
+        lay_out = text_kernels.compiled()
+        for start in range(0, len(self), size):
+            rows = slice(start, start + size)
+            text = _json_array(numbers[rows])
+            a, b = name_a[rows], name_b[rows]
+            out = np.empty(len(text) + len(a) * fixed + 3 * int(lengths[a].sum() + lengths[b].sum()), np.uint8)
+            written = lay_out(
+                np.frombuffer(text, np.uint8), steps[rows], a, b, flags[rows], names, name_bounds,
+                program, literals, literal_bounds, out,
+            )  # fmt: skip
+            yield out[:written].tobytes().decode()
 
 
 @dataclass(frozen=True)

@@ -8,11 +8,12 @@ import io
 import json
 import math
 import tempfile
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from typing import IO, Any, TextIO
 
 import numpy as np
 
+from ..atomic import copy_file
 from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
@@ -73,28 +74,57 @@ def _event_lines(event: CollisionEvent, dims: int, explain: bool) -> list[str]:
     return lines
 
 
-def _block_lines(block: EventBlock, dims: int) -> list[tuple[int, list[str]]]:
-    """:func:`_event_lines` of every event of ``block`` (without ``--explain``), the same text,
-    written from the block's columns instead of event objects (a heap of balls makes millions)."""
-    a_ids = block.a.tolist()
-    names_a = [block.static_names[-1 - a] if a < 0 else block.names[a] for a in a_ids]
-    names_b = [block.names[b] for b in block.b.tolist()]
-    velocities = np.column_stack((block.after_a[:, :dims], block.after_b[:, :dims])).tolist()
+def _block_templates(dims: int) -> tuple[str, str]:
+    """The ``%`` templates of :func:`_event_lines`'s text (without ``--explain``) of an event
+    between two bodies and of a body against an obstacle, for :func:`_block_texts`'s arguments:
+    step, time, the two names as the first line gives them, then A's name and velocity (empty
+    against an obstacle) and B's."""
+    vector = "(" + ", ".join(["%.3f"] * dims) + ")"
+    head = "collision at step %d (t = %.3f s): "
+    return (
+        head + f"%s and %s collide\n  velocities after: %s = {vector}, %s = {vector} m/s\n",
+        head + f"%s hits %s\n  velocity after: {'%s' * (1 + dims)}%s = {vector} m/s\n",
+    )
 
-    def vector(row: list[float]) -> str:  # _vec's text: no signed zero (-0.000 is 0.000)
-        return ("(" + ", ".join(f"{x:.3f}" for x in row) + ")").replace("-0.000", "0.000")
 
+def _block_texts(block: EventBlock, dims: int) -> list[tuple[int, str]]:
+    """The text of :func:`_event_lines` (without ``--explain``) of every event of ``block``, one
+    text (its lines, each ending in a newline) per step, the steps in order and each step's
+    events in the block's order: the same text, written from the block's columns, with one ``%``
+    a step (a heap of balls makes millions of events)."""
+    n = len(block)
+    if not n:
+        return []
+    steps, a, b = block.step, block.a, block.b
+    order = np.argsort(steps, kind="stable") if np.any(np.diff(steps) < 0) else slice(None)
+    steps, a, b = steps[order], a[order], b[order]
+    ids, index = np.unique(np.concatenate((a, b)), return_inverse=True)
+    names = np.array([block.static_names[-1 - i] if i < 0 else block.names[i] for i in ids.tolist()], dtype=object)
+    name_a, name_b = names[index[:n]], names[index[n:]]
+    static = a < 0
+    # No signed zero: a velocity that .3f would write -0.000 (below half a thousandth, as a
+    # double: 0.0005 is a little more than 5e-4) is written 0.000.
+    after = np.column_stack((block.after_a[order, :dims], block.after_b[order, :dims]))
+    after = np.where(np.abs(after) < 0.0005, 0.0, after).astype(object)
+    after[static, :dims] = ""
+    arguments = np.empty((n, 6 + 2 * dims), dtype=object)
+    arguments[:, 0] = steps.astype(object)
+    arguments[:, 1] = block.time[order].astype(object)
+    arguments[:, 2] = np.where(static, name_b, name_a)  # "A and B collide", "B hits A"
+    arguments[:, 3] = np.where(static, name_a, name_b)
+    arguments[:, 4] = np.where(static, "", name_a)
+    arguments[:, 5 : 5 + dims] = after[:, :dims]
+    arguments[:, 5 + dims] = name_b
+    arguments[:, 6 + dims :] = after[:, dims:]
+    pair, obstacle = _block_templates(dims)
+    templates = np.where(static, obstacle, pair).astype(object).tolist()
+    values = arguments.ravel().tolist()
+    width = arguments.shape[1]
+    starts = [0, *(np.flatnonzero(np.diff(steps)) + 1).tolist()]
     out = []
-    for step, time, a_id, a, b, row in zip(
-        block.step.tolist(), block.time.tolist(), a_ids, names_a, names_b, velocities, strict=True
-    ):
-        head = f"collision at step {step} (t = {time:.3f} s): "
-        if a_id < 0:
-            lines = [head + f"{b} hits {a}", f"  velocity after: {b} = {vector(row[dims:])} m/s"]
-        else:
-            after = f"{a} = {vector(row[:dims])}, {b} = {vector(row[dims:])}"
-            lines = [head + f"{a} and {b} collide", f"  velocities after: {after} m/s"]
-        out.append((step, lines))
+    for start, stop in zip(starts, [*starts[1:], n], strict=True):
+        text = "".join(templates[start:stop]) % tuple(values[start * width : stop * width])
+        out.append((int(steps[start]), text))
     return out
 
 
@@ -157,7 +187,7 @@ class TableWriter:
         self._out, self._every, self._quiet, self._explain = out, every, quiet, explain
         self._dims = 3
         self._steps = 0
-        self._pending: list[tuple[int, list[str]]] = []  # (step, lines) not yet written
+        self._pending: list[tuple[int, str]] = []  # (step, its lines) not yet written
         self._header = False
 
     def begin(self, record: RunRecord) -> None:
@@ -168,11 +198,11 @@ class TableWriter:
 
     def _flush(self, below: int) -> None:
         kept = []
-        for step, lines in self._pending:
+        for step, text in self._pending:
             if step < below:
-                self._out.writelines(line + "\n" for line in lines)
+                self._out.write(text)
             else:
-                kept.append((step, lines))
+                kept.append((step, text))
         self._pending = kept
 
     def frame(self, frame: Frame) -> None:
@@ -188,15 +218,16 @@ class TableWriter:
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         by_step: dict[int, list[str]] = {}
         if isinstance(events, EventBlock) and not self._explain:  # a world's events: from their columns
-            for step, lines in _block_lines(events, self._dims):
-                by_step.setdefault(step, []).extend(lines)
+            for step, text in _block_texts(events, self._dims):
+                by_step.setdefault(step, []).append(text)
         else:
             for event in events:
-                by_step.setdefault(event.step, []).extend(_event_lines(event, self._dims, self._explain))
+                lines = _event_lines(event, self._dims, self._explain)
+                by_step.setdefault(event.step, []).extend(line + "\n" for line in lines)
         if self._explain:
             for skip in skipped:
-                by_step.setdefault(skip.step, []).append(_skip_line(skip))
-        self._pending += sorted(by_step.items(), key=lambda item: item[0])
+                by_step.setdefault(skip.step, []).append(_skip_line(skip) + "\n")
+        self._pending += sorted(((step, "".join(texts)) for step, texts in by_step.items()), key=lambda item: item[0])
         self._flush(reached)
 
     def warning(self, text: str) -> None:
@@ -272,15 +303,17 @@ def _dumps_item(item: Frame | CollisionEvent | SkippedContact) -> str:
 class JsonWriter:
     """One JSON object per run, written as it goes: one top-level key per line and each frame,
     event and skipped contact on a line of its own (readable, line-oriented, and written by the
-    json module's C encoder, which ``indent`` would turn off). Frames go straight out; events and
-    skipped contacts, which the object lists after the frames, wait in temporary files (disk,
-    not memory). The object ends with ``}`` (no newline)."""
+    json module's C encoder, which ``indent`` would turn off; a world's events by
+    :meth:`EventBlock.json_chunks <collisionlab.record.EventBlock.json_chunks>`). Frames go
+    straight out; events and skipped contacts, which the object lists after the frames, wait in
+    temporary files (disk, not memory), already with the commas between them, and are copied in
+    whole at the end (:func:`~collisionlab.atomic.copy_file`). The object ends with ``}`` (no newline)."""
 
     def __init__(self, out: TextIO, every: int = 1) -> None:
         self._out, self._every = out, every
         self._steps = 0
         self._frames = 0
-        self._spools: dict[str, tuple[IO[str], list[int]]] = {}
+        self._spools: dict[str, tuple[IO[str], list[int]]] = {}  # each with the pieces written to it
 
     def begin(self, record: RunRecord) -> None:
         self._steps = record.steps
@@ -300,26 +333,27 @@ class JsonWriter:
 
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         for key, items in (("events", events), ("skipped", skipped)):
-            spool, count = self._spools[key]
+            if not items:
+                continue
+            spool, written = self._spools[key]
+            # Each item after ",\n  ", the first of all after "\n  " (the list's first line).
             if isinstance(items, EventBlock):  # a world's events: written from their columns
-                spool.writelines(line + "\n" for line in items.json_lines())
+                chunks: Iterable[str] = items.json_chunks(",\n  ")
             else:
-                spool.writelines(_dumps_item(item) + "\n" for item in items)
-            count[0] += len(items)
+                chunks = ["".join(",\n  " + _dumps_item(item) for item in items)]
+            for text in chunks:
+                spool.write(text if written[0] else text[1:])
+                written[0] += 1
 
     def warning(self, text: str) -> None:
         pass  # the record's warnings are written at the end
 
     def end(self, record: RunRecord) -> None:
         self._out.write("\n ]" if self._frames else "]")
-        for key, (spool, count) in self._spools.items():
+        for key, (spool, written) in self._spools.items():
             self._out.write(f",\n {json.dumps(key)}: [")
-            if count[0]:
-                spool.seek(0)
-                separator = "\n  "
-                for line in spool:  # a line at a time: the spool may be larger than memory
-                    self._out.write(separator + line.rstrip("\n"))
-                    separator = ",\n  "
+            if written[0]:
+                copy_file(spool, self._out)  # not read into memory: the spool may be larger
                 self._out.write("\n ]")
             else:
                 self._out.write("]")
