@@ -9,13 +9,15 @@ same function compiled by numba on first use and cached on disk, as the engine's
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .numba_cache import use_user_cache
+from .numba_cache import cache_files, use_user_cache
 
 __all__ = ["FLAG", "LITERAL", "NAME_A", "NAME_B", "NUMBER", "STEP", "compiled", "lay_out"]
 
@@ -106,6 +108,10 @@ def compiled() -> Callable[..., int]:
     if not _compiled:
         use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
         import numba
+
+        if not any(f.name.startswith("text_kernels.lay_out-") for f in cache_files(Path(__file__).parent)):
+            # Compiling is said on stderr, as the engine's kernels are (a few seconds, once).
+            print("compiling the JSON writer's kernel (once per machine)...", file=sys.stderr)
 
         jitted: Any = numba.njit(cache=True)(lay_out)
         _compiled.append(jitted)
