@@ -238,3 +238,24 @@ def test_a_worlds_event_blocks_print_as_its_events_do(dim: int) -> None:
     record = world.run(every=4, observer=TableWriter(streamed, every=4, quiet=True))
     assert len(record.events) > 50 and any(event.static for event in record.events)
     assert streamed.getvalue() == render_table(record, every=4, quiet=True)
+
+
+@pytest.mark.parametrize(
+    ("cached", "heard"), [(False, ["compiling the JSON writer's kernel (once per machine)..."]), (True, [])]
+)
+def test_the_json_writer_says_once_that_its_kernel_compiles(
+    monkeypatch: pytest.MonkeyPatch, cached: bool, heard: list[str]
+) -> None:
+    # A bouncing ball's run hands over several blocks of events (one a chunk of steps): the
+    # notice comes once, before the first, and only when the kernel is not in the cache.
+    from collisionlab import text_kernels
+    from collisionlab.cli.render import JsonWriter
+    from collisionlab.engine.world import World
+
+    monkeypatch.setattr(text_kernels, "is_cached", lambda: cached)
+    told: list[str] = []
+    out = io.StringIO()
+    record = World(load_demo("bouncing-ball")).run(observer=JsonWriter(out, notify=told.append), keep=False)
+    assert record.collision_count >= 2  # e = 0.8 from 1 m: many bounces in the demo's 3 s
+    assert told == heard
+    assert len(json.loads(out.getvalue())["events"]) == record.collision_count

@@ -9,7 +9,6 @@ same function compiled by numba on first use and cached on disk, as the engine's
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -19,7 +18,7 @@ from numpy.typing import NDArray
 
 from .numba_cache import cache_files, use_user_cache
 
-__all__ = ["FLAG", "LITERAL", "NAME_A", "NAME_B", "NUMBER", "STEP", "compiled", "lay_out"]
+__all__ = ["FLAG", "LITERAL", "NAME_A", "NAME_B", "NUMBER", "STEP", "compiled", "is_cached", "lay_out"]
 
 #: The operations of a program, one row each: ``(operation, argument, flag, pair_only)``.
 #: LITERAL writes literal ``argument``; NUMBER the next number of the text (read even when left
@@ -102,16 +101,20 @@ def lay_out(
 _compiled: list[Callable[..., int]] = []
 
 
+def is_cached() -> bool:
+    """Whether numba's on-disk cache seems to hold :func:`lay_out` already (a guess from its
+    index file, as :func:`collisionlab.engine.compiled.is_cached`): else the first use compiles
+    it, for a few seconds, and a program says so."""
+    use_user_cache()
+    return any(f.name.startswith("text_kernels.lay_out-") for f in cache_files(Path(__file__).parent))
+
+
 def compiled() -> Callable[..., int]:
     """:func:`lay_out` compiled by numba (on first use; cached on disk, in the user's cache
     folder, as the engine's kernels)."""
     if not _compiled:
         use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
         import numba
-
-        if not any(f.name.startswith("text_kernels.lay_out-") for f in cache_files(Path(__file__).parent)):
-            # Compiling is said on stderr, as the engine's kernels are (a few seconds, once).
-            print("compiling the JSON writer's kernel (once per machine)...", file=sys.stderr)
 
         jitted: Any = numba.njit(cache=True)(lay_out)
         _compiled.append(jitted)

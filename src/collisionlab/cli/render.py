@@ -13,6 +13,7 @@ from typing import IO, Any, TextIO
 
 import numpy as np
 
+from .. import text_kernels
 from ..atomic import copy_file
 from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
@@ -309,8 +310,9 @@ class JsonWriter:
     temporary files (disk, not memory), already with the commas between them, and are copied in
     whole at the end (:func:`~collisionlab.atomic.copy_file`). The object ends with ``}`` (no newline)."""
 
-    def __init__(self, out: TextIO, every: int = 1) -> None:
+    def __init__(self, out: TextIO, every: int = 1, notify: Callable[[str], None] | None = None) -> None:
         self._out, self._every = out, every
+        self._notify = notify  # hears that the JSON layout kernel compiles (once per machine)
         self._steps = 0
         self._frames = 0
         self._spools: dict[str, tuple[IO[str], list[int]]] = {}  # each with the pieces written to it
@@ -338,6 +340,9 @@ class JsonWriter:
             spool, written = self._spools[key]
             # Each item after ",\n  ", the first of all after "\n  " (the list's first line).
             if isinstance(items, EventBlock):  # a world's events: written from their columns
+                if self._notify is not None and not text_kernels.is_cached():
+                    self._notify("compiling the JSON writer's kernel (once per machine)...")
+                    self._notify = None
                 chunks: Iterable[str] = items.json_chunks(",\n  ")
             else:
                 chunks = ["".join(",\n  " + _dumps_item(item) for item in items)]
@@ -362,12 +367,20 @@ class JsonWriter:
         self._out.write("\n}")
 
 
-def writer_for(fmt: str, out: TextIO, every: int = 1, quiet: bool = False, explain: bool = False) -> RunObserver:
-    """The writer of ``fmt`` (``table``, ``csv`` or ``json``) into ``out``."""
+def writer_for(
+    fmt: str,
+    out: TextIO,
+    every: int = 1,
+    quiet: bool = False,
+    explain: bool = False,
+    notify: Callable[[str], None] | None = None,
+) -> RunObserver:
+    """The writer of ``fmt`` (``table``, ``csv`` or ``json``) into ``out``; ``notify`` hears
+    what takes time (the JSON writer's kernel compiling)."""
     if fmt == "csv":
         return CsvWriter(out, every)
     if fmt == "json":
-        return JsonWriter(out, every)
+        return JsonWriter(out, every, notify)
     return TableWriter(out, every, quiet, explain)
 
 

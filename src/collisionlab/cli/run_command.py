@@ -181,7 +181,7 @@ def execute(
                 limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
             if index:
                 spool.write(",\n" if args.format == "json" else "\n")
-            writer = writer_for(args.format, spool, args.every, args.quiet, args.explain)
+            writer = writer_for(args.format, spool, args.every, args.quiet, args.explain, streams.err)
             bar = ProgressBar(streams, scenario.title)
             try:
                 # Only pictures need the whole record; the output is written as the run goes.
