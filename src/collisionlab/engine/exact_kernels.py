@@ -5,11 +5,14 @@ Between impacts every body flies exactly, ``x(t) = x + v t + a t^2 / 2`` (a para
 gravity, a line without), so an impact is found at its time, never after it, and nothing tunnels.
 One step of ``dt``, in this fixed order:
 
-1. **Candidates.** The state is sorted by cell (as the Forward Euler stepper does) and every pair
+1. **Candidates.** The state is sorted by cell (the Forward Euler stepper's grid) and every pair
    that can meet before the step ends is listed: pairs closer than ``contact_margin + 2 s``,
-   where ``s = v_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left
-   (``a_max`` is taken as ``ACCELERATION_HEADROOM |g|``; if phase 2 leaves a body faster or
-   more accelerated than the bounds, the candidates are listed again with the larger ones).
+   where ``s = u_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left
+   relative to a frame moving at a constant velocity (the middle of the bodies' velocities, so
+   ``u_max`` is small for a heap sliding as one), and a body and a static closer than
+   ``contact_margin + v_max T + a_max T^2 / 2`` (``a_max`` is taken as
+   ``ACCELERATION_HEADROOM |g|``; if phase 2 leaves a body faster or more accelerated than the
+   bounds, the candidates are listed again with the larger ones).
 2. **Resting contacts** (with gravity): a pair in contact (within ``contact_margin``) whose
    normal speed is below ``rest_speed`` and whose accelerations press it together rests: a slow
    approach or lift-off is stopped (no event), and the support cancels the pressing part of the
@@ -525,6 +528,45 @@ def _rest(
     return 1
 
 
+def _velocity_bounds(vel: Any, v_ref: Any) -> Any:
+    """``(v_bound, u_bound)``: the largest speed of a body, and the largest relative to
+    ``v_ref``, which is set to the middle of the velocities' bounding box (a heap sliding down a
+    slope moves fast, but hardly relative to itself).
+
+    >>> v_ref = np.zeros(3)
+    >>> _velocity_bounds(np.array([[3.0, 0, 0], [5.0, 0, 0]]), v_ref), v_ref.tolist()
+    ((5.0, 1.0), [4.0, 0.0, 0.0])
+    """
+    n = vel.shape[0]
+    for k in range(3):
+        low = math.inf
+        high = -math.inf
+        for i in range(n):
+            low = min(low, vel[i, k])
+            high = max(high, vel[i, k])
+        v_ref[k] = 0.5 * (low + high) if n > 0 else 0.0
+    v_bound = 0.0
+    u_bound = 0.0
+    for i in range(n):
+        v_bound = max(v_bound, math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2))
+        ux = vel[i, 0] - v_ref[0]
+        uy = vel[i, 1] - v_ref[1]
+        uz = vel[i, 2] - v_ref[2]
+        u_bound = max(u_bound, math.sqrt(ux * ux + uy * uy + uz * uz))
+    return v_bound, u_bound
+
+
+def _speed_beyond(vel: Any, i: int, v_ref: Any, v_bound: float, u_bound: float) -> bool:
+    """Whether body ``i`` is faster than ``v_bound``, or than ``u_bound`` relative to ``v_ref``."""
+    ux = vel[i, 0] - v_ref[0]
+    uy = vel[i, 1] - v_ref[1]
+    uz = vel[i, 2] - v_ref[2]
+    return bool(
+        math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2) > v_bound
+        or math.sqrt(ux * ux + uy * uy + uz * uz) > u_bound
+    )
+
+
 def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
     """Gravity for a body of finite mass, nothing for a kinematic one; no supports."""
     for k in range(3):
@@ -535,61 +577,26 @@ def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> N
 def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
     """The contacts ``idx[:m]`` (in increasing number) in the order
     :func:`~collisionlab.engine.step_kernels._order_contacts` gives all of them: deepest first,
-    runs of equal depth by geometry; a sort of these alone, so the others cost nothing."""
+    runs of equal depth by geometry, then by number; a sort of these alone, so the others cost
+    nothing (its way too: an unstable sort of the depths, each run sorted after, as the order is
+    total)."""
     sub = idx[:m]
     depth = np.empty(m)
     for u in range(m):
         depth[u] = -cd[sub[u]]
-    order = sub[np.argsort(depth, kind="mergesort")]
-    spare = np.empty(0, np.int64)
+    order = sub[np.argsort(depth)]
+    spare = np.empty(m, np.int64)
     s = 0
     while s < m:
         t = s + 1
         while t < m and cd[order[t]] == cd[order[s]]:
             t += 1
-        if t - s > 1:
-            if spare.shape[0] < t - s:
-                spare = np.empty(max(t - s, 2 * spare.shape[0]), np.int64)
-            _merge_sort_run(pos, ca, cb, order, s, t, spare)
+        if t - s > sk._SHORT_RUN:
+            sk._sort_run(pos, ca, cb, order, s, t, spare)
+        elif t - s > 1:
+            sk._insertion_sort(pos, ca, cb, order, s, t)
         s = t
     return order
-
-
-def _merge_sort_run(pos: Any, ca: Any, cb: Any, order: Any, s: int, t: int, spare: Any) -> None:
-    """Sort ``order[s:t]`` (contacts of equal depth) by
-    :func:`~collisionlab.engine.step_kernels._contact_cmp`, stably (bottom-up merge sort): the
-    order the insertion sort of ``_order_contacts`` gives, in ``O(k log k)`` for a long run of
-    equal depths (pairs left at the same gap)."""
-    width = 1
-    k = t - s
-    while width < k:
-        lo = 0
-        while lo < k - width:
-            mid = lo + width
-            hi = min(lo + 2 * width, k)
-            i = lo
-            j = mid
-            w = 0
-            while i < mid and j < hi:
-                if sk._contact_cmp(pos, ca, cb, order[s + j], order[s + i]) < 0:
-                    spare[w] = order[s + j]
-                    j += 1
-                else:
-                    spare[w] = order[s + i]
-                    i += 1
-                w += 1
-            while i < mid:
-                spare[w] = order[s + i]
-                i += 1
-                w += 1
-            while j < hi:
-                spare[w] = order[s + j]
-                j += 1
-                w += 1
-            for u in range(w):
-                order[s + lo + u] = spare[u]
-            lo += 2 * width
-        width *= 2
 
 
 # --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
@@ -667,7 +674,9 @@ def _heap_room(ht: Any, hk: Any, hv: Any, size: int, ver: Any) -> Any:
 def _save_touching(
     ca: Any, cb: Any, ids: Any, n: int, count: int, touching: Any, near: Any, touch_keys: Any, touch_count: Any
 ) -> Any:
-    """Remember the pairs in contact (touching and within the contact margin) across re-sorts."""
+    """Remember the pairs in contact (touching and within the contact margin) across re-sorts, in
+    no order (as :func:`~collisionlab.engine.step_kernels.run_steps`; looked up through a hash
+    table, :func:`~collisionlab.engine.step_kernels._mark_touching`)."""
     if count > touch_keys.shape[0]:
         touch_keys = np.zeros(2 * count, np.int64)
     kept = 0
@@ -675,7 +684,6 @@ def _save_touching(
         if touching[c] == 1 and near[c] == 1:
             touch_keys[kept] = sk._pair_key(ca, cb, ids, n, c)
             kept += 1
-    touch_keys[:kept] = np.sort(touch_keys[:kept])
     touch_count[0] = kept
     return touch_keys
 
@@ -750,6 +758,13 @@ def run_exact_steps(
     ht = np.zeros(64)
     hk = np.zeros(64, np.int64)
     hv = np.zeros(64, np.int64)
+    width = sk._grid_width(ext, dims)  # the widest body in the grid; wider ones are met apart
+    key_of = np.zeros(n, np.int64)
+    cell_key = np.zeros(n, np.int64)
+    hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
+    no_normals = np.zeros((0, 3))
+    v_ref = np.zeros(3)  # the frame the candidates' sweep is measured in (_velocity_bounds)
+    table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
     for step in range(first_step, first_step + steps):
         start = step * dt
         t = 0.0
@@ -763,44 +778,38 @@ def run_exact_steps(
             remaining = dt - t
             a_bound = ACCELERATION_HEADROOM * g_size
             v_bound = 0.0
+            u_bound = 0.0
             rest = np.zeros(0, np.int8)
             ignored = np.zeros(0, np.int8)
             normals = np.zeros((0, 3))
             for _attempt in range(8):
-                v_bound = 0.0
-                for i in range(n):
-                    v_bound = max(v_bound, math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2))
-                sweep = v_bound * remaining + 0.5 * a_bound * remaining * remaining
-                margin = contact_margin + 2.0 * sweep
-                h = sk._grid_geometry(pos, dims, min_cell + 2.0 * sweep, max_cells, lo, shape)
-                sk._counting_sort(pos, dims, lo, h, shape, cell_start, dest)
+                v_bound, u_bound = _velocity_bounds(vel, v_ref)
+                drift = 0.5 * a_bound * remaining * remaining
+                # Two bodies close by at most twice (u_bound T + a_bound T^2 / 2): each moves
+                # that far relative to v_ref (a frame that does not accelerate); a body moves at
+                # most v_bound T + a_bound T^2 / 2 towards a static.
+                margin = contact_margin + 2.0 * (u_bound * remaining + drift)
+                static_margin = contact_margin + v_bound * remaining + drift
+                # The grid of the Forward Euler stepper: cells as wide as the bodies the grid
+                # holds (all but the widest few, which meet it apart) plus the margin, hashed
+                # into buckets when there would be too many.
+                cell = width + margin if width + margin > 0.0 else min_cell
+                h, buckets = sk._grid_plan(pos, ext, dims, width, cell, max_cells, lo, shape)
+                if buckets > 0 and hashed.shape[0] < buckets + 3:
+                    hashed = np.zeros(buckets + 3, np.int64)
+                starts = hashed if buckets > 0 else cell_start
+                n_small = sk._bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
                 sk._store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
-                count = sk._find_contacts(
-                    kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, cell_start, stencil, ca, cb, cd, margin
-                )
-                if count > ca.shape[0]:
+                while True:  # listed again, into arrays twice as large, when they were too small
+                    count = sk._find_pairs(
+                        kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts,
+                        stencil, cell_key, ca, cb, cd, no_normals, margin, static_margin,
+                    )  # fmt: skip
+                    if count <= ca.shape[0]:
+                        break
                     ca = np.zeros(2 * count, np.int64)
                     cb = np.zeros(2 * count, np.int64)
                     cd = np.zeros(2 * count)
-                    sk._find_contacts(
-                        kind,
-                        pos,
-                        ext,
-                        ids,
-                        s_kind,
-                        s_a,
-                        s_b,
-                        dims,
-                        lo,
-                        h,
-                        shape,
-                        cell_start,
-                        stencil,
-                        ca,
-                        cb,
-                        cd,
-                        margin,
-                    )
                 # Phase 2: resting contacts and the accelerations they leave.
                 for i in range(n):
                     _base_acceleration(i, acc, ima, gravity, nsup)
@@ -808,9 +817,9 @@ def run_exact_steps(
                 rest = np.zeros(count, np.int8)
                 ignored = np.zeros(count, np.int8)
                 normals = np.zeros((count, 3))
-                for c in range(count):
-                    if sk._contains(touch_keys, touch_count[0], sk._pair_key(ca, cb, ids, n, c)):
-                        touching[c] = 1
+                while table.shape[0] < 2 * touch_count[0]:
+                    table = np.zeros(2 * table.shape[0], np.int64)
+                sk._mark_touching(touch_keys, touch_count[0], table, ca, cb, ids, n, count, touching)
                 if resting_on:
                     # Only pairs in contact can rest: order those alone. A pair is looked at again
                     # only once one of its bodies changed since (_rest returns 0 again otherwise).
@@ -875,7 +884,7 @@ def run_exact_steps(
                     if math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2) > a_bound:
                         a_bound = math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2)
                         grown = True
-                    if math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2) > v_bound:
+                    if _speed_beyond(vel, i, v_ref, v_bound, u_bound):
                         grown = True
                 if not grown:
                     break
@@ -1213,9 +1222,8 @@ def run_exact_steps(
                                 ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                                 size = _heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
                 for q in range(n_look):
-                    i = kicked[q]
-                    speed = math.sqrt(vel[i, 0] ** 2 + vel[i, 1] ** 2 + vel[i, 2] ** 2)
-                    if speed > v_bound + a_bound * (when - t):
+                    grown_by = a_bound * (when - t)
+                    if _speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, u_bound + grown_by):
                         restart = True
                 if restart:
                     for q in range(n_look):

@@ -631,6 +631,7 @@ def _find_contacts(
         cd,
         np.zeros((0, 3)),
         margin,
+        margin,
     )
 
 
@@ -656,6 +657,7 @@ def _find_pairs(
     cd: Any,
     cn: Any,
     margin: float,
+    static_margin: float,
 ) -> int:
     """:func:`_find_contacts` on the grid of :func:`_grid_plan` and :func:`_bucket_sort`: the
     grid's cells (or, if ``buckets > 0``, its buckets, each body's cell in ``cell_key``) hold the
@@ -665,7 +667,8 @@ def _find_pairs(
     cells, covers (all of them if there are fewer), then the larger bodies after it. Also keeps
     each contact's unit normal in ``cn`` (rows of three) while ``cn`` has room: the positions do
     not change until push-apart, so the impulse sweeps read it there instead of computing the
-    separation again."""
+    separation again. A static is met within ``static_margin`` (a pair of bodies within
+    ``margin``)."""
     n = pos.shape[0]
     cap = ca.shape[0]
     cap_n = cn.shape[0]
@@ -841,15 +844,15 @@ def _find_pairs(
                     + s_b[s, 2] * (pos[i, 2] - s_a[s, 2])
                 )
                 reach = abs(s_b[s, 0]) * ext[i, 0] + abs(s_b[s, 1]) * ext[i, 1] + abs(s_b[s, 2]) * ext[i, 2]
-                if (abs(side) if s_kind[s] == STATIC_BOUNDARY else side) > reach + margin:
+                if (abs(side) if s_kind[s] == STATIC_BOUNDARY else side) > reach + static_margin:
                     continue
             elif (  # a fixed box: the bounding boxes, as _static_bounds_meet
-                pos[i, 0] + ext[i, 0] + margin < s_a[s, 0]
-                or pos[i, 0] - ext[i, 0] - margin > s_b[s, 0]
-                or pos[i, 1] + ext[i, 1] + margin < s_a[s, 1]
-                or pos[i, 1] - ext[i, 1] - margin > s_b[s, 1]
-                or pos[i, 2] + ext[i, 2] + margin < s_a[s, 2]
-                or pos[i, 2] - ext[i, 2] - margin > s_b[s, 2]
+                pos[i, 0] + ext[i, 0] + static_margin < s_a[s, 0]
+                or pos[i, 0] - ext[i, 0] - static_margin > s_b[s, 0]
+                or pos[i, 1] + ext[i, 1] + static_margin < s_a[s, 1]
+                or pos[i, 1] - ext[i, 1] - static_margin > s_b[s, 1]
+                or pos[i, 2] + ext[i, 2] + static_margin < s_a[s, 2]
+                or pos[i, 2] - ext[i, 2] - static_margin > s_b[s, 2]
             ):
                 continue
             sep = _static_sep(
@@ -868,7 +871,7 @@ def _find_pairs(
                 ext[i, 1],
                 ext[i, 2],
             )
-            if sep[0] <= margin:
+            if sep[0] <= static_margin:
                 if count < cap:
                     ca[count] = -1 - s
                     cb[count] = i
@@ -1532,7 +1535,7 @@ def run_steps(
         while True:  # listed again, into arrays twice as large, when they were too small
             count = _find_pairs(
                 kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
-                cell_key, ca, cb, cd, cn, contact_margin,
+                cell_key, ca, cb, cd, cn, contact_margin, contact_margin,
             )  # fmt: skip
             if count <= ca.shape[0]:
                 break
@@ -1675,7 +1678,7 @@ def find_near(
     while True:  # listed again, into arrays large enough, when they were too small
         count = _find_pairs(
             skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
-            cell_key, ca, cb, cd, no_normals, margin,
+            cell_key, ca, cb, cd, no_normals, margin, margin,
         )  # fmt: skip
         if count <= ca.shape[0]:
             break
