@@ -567,6 +567,15 @@ def _speed_beyond(vel: Any, i: int, v_ref: Any, v_bound: float, u_bound: float) 
     )
 
 
+def _closing(a: int, elapsed: float, u_bound: float, v_bound: float, a_bound: float) -> float:
+    """How much nearer than when listed a candidate pair (``a < 0``: a static's) can be
+    ``elapsed`` later, its bodies within the bounds the candidates were listed for (phase 1)."""
+    drift = 0.5 * a_bound * elapsed * elapsed
+    if a >= 0:
+        return 2.0 * (u_bound * elapsed + drift)
+    return v_bound * elapsed + drift
+
+
 def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
     """Gravity for a body of finite mass, nothing for a kinematic one; no supports."""
     for k in range(3):
@@ -945,6 +954,11 @@ def run_exact_steps(
                     break
                 impacts += 1
                 expiry = c >= count
+                # A pair listed farther apart than this cannot be in contact yet: the bounds the
+                # candidates were listed for (kept, or the step is cut) limit how much nearer
+                # it can be since (a separation changes no faster than the shapes move).
+                reach_body = contact_margin + gap + _closing(0, when - t, u_bound, v_bound, a_bound)
+                reach_static = contact_margin + gap + _closing(-1, when - t, u_bound, v_bound, a_bound)
                 if expiry:
                     c -= count
                 a = ca[c]
@@ -1075,6 +1089,8 @@ def run_exact_steps(
                             c2 = adj[u]
                             a2 = ca[c2]
                             b2 = cb[c2]
+                            if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
+                                continue  # too far apart when listed to be in contact yet
                             other = b2 if a2 == i else a2
                             if other >= 0:
                                 _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
@@ -1176,6 +1192,8 @@ def run_exact_steps(
                                 other = b2 if a2 == i else a2
                                 if rest[c2] == 1 or (other >= 0 and ima[other] > 0.0 and nsup[other] == 0):
                                     continue
+                                if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
+                                    continue
                                 if other >= 0:
                                     _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
                                 sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
@@ -1270,6 +1288,10 @@ def run_exact_steps(
             seen = np.zeros(2 * count, np.int64)
         n_push = 0
         for c in range(count):
+            closing = _closing(ca[c], dt - t, u_bound, v_bound, a_bound)
+            if -cd[c] - closing > contact_margin + gap:
+                cd[c] -= closing  # a bound is enough: neither pushed apart nor in contact
+                continue
             sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
             cd[c] = -sep[0]
             if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
