@@ -86,8 +86,26 @@ ACCELERATION_HEADROOM = 2.0
 #: the candidates had to be listed again within a step.
 STATUS_SIZE = 3
 
-#: Helpers the compiled form inlines into their callers.
-INLINE = ("_first_root", "_response", "_rounding_speed")
+#: Helpers the compiled form inlines into their callers: the small ones, and those the loop calls
+#: for every pair it looks at, which take arrays (a call costs a reference count taken and given
+#: back for each array it passes, more than the work inside).
+INLINE = (
+    "_first_root",
+    "_response",
+    "_rounding_speed",
+    "_ball_ball_root",
+    "_advance",
+    "_time_of_impact",
+    "_kick",
+    "_curvature",
+    "_support_expiry",
+    "_rest",
+    "_closing",
+    "_speed_beyond",
+    "_base_acceleration",
+    "_heap_push",
+    "_heap_pop",
+)
 
 
 # --- motion and time of impact ------------------------------------------------------------------
@@ -131,24 +149,17 @@ def _first_root(c0: float, c1: float, c2: float, limit: float) -> float:
     return best if best <= limit else math.inf
 
 
-def _ball_ball_root(p2: Any, v2: Any, reach: float, limit: float) -> float:
-    """The first ``t`` in ``(0, limit]`` with ``|p + w t| = reach`` for two balls apart
-    (``p``, ``w``: rows 1 minus 0 of ``p2`` and ``v2``), or ``inf``: the engine's one time of
-    impact of two balls (:func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`).
+def _ball_ball_root(
+    px: float, py: float, pz: float, wx: float, wy: float, wz: float, reach: float, limit: float
+) -> float:
+    """The first ``t`` in ``(0, limit]`` with ``|p + w t| = reach`` for two balls apart (``p``,
+    ``w``: the second's position and velocity minus the first's), or ``inf``: the engine's one
+    time of impact of two balls (:func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`).
 
-    >>> p = np.array([[0.0, 0, 0], [3.0, 1, 0]]); w = np.array([[1.0, 0, 0], [0.0, 0, 0]])
-    >>> float(_ball_ball_root(p, w, 1.0, 10.0))   # a graze: (3 - t)^2 + 1 = 1 at t = 3 only
+    >>> float(_ball_ball_root(3.0, 1.0, 0.0, -1.0, 0.0, 0.0, 1.0, 10.0))   # a graze: (3 - t)^2 + 1 = 1 at t = 3 only
     3.0
     """
-    t = gk.time_of_impact_ball_ball(
-        p2[1, 0] - p2[0, 0],
-        p2[1, 1] - p2[0, 1],
-        p2[1, 2] - p2[0, 2],
-        v2[1, 0] - v2[0, 0],
-        v2[1, 1] - v2[0, 1],
-        v2[1, 2] - v2[0, 2],
-        reach * reach,
-    )
+    t = gk.time_of_impact_ball_ball(px, py, pz, wx, wy, wz, reach * reach)
     return t if 0.0 < t <= limit else math.inf  # 0: touching already, which the caller handles
 
 
@@ -191,7 +202,8 @@ def _separation_at(
     e2: Any,
 ) -> Any:
     """The separation of pair ``(a, b)`` at time ``t`` (each body where its flight puts it then,
-    the state untouched); rows 0 and 1 of ``v2`` get their velocities then (0 for a static)."""
+    the state untouched); rows 0 and 1 of ``v2`` get their velocities then (0 for a static). As
+    :func:`_time_of_impact` finds it, for :func:`collisionlab.toi.time_of_impact`."""
     for r in range(2):
         i = a if r == 0 else b
         if i < 0:
@@ -226,30 +238,59 @@ def _time_of_impact(
     b: int,
     t0: float,
     t_end: float,
-    k2: Any,
-    p2: Any,
-    v2: Any,
-    e2: Any,
     gap: float,
 ) -> float:
     """The time in ``[t0, t_end)`` when pair ``(a, b)`` first comes within ``gap`` while
     approaching, or ``inf`` (conservative advancement, the module docstring's phase 3). A pair in
     contact and separating is followed until its gap along the normal closes again (a slow hop
-    under gravity), once; an overlapping one until that gap is back to 0 after it has left."""
+    under gravity), once; an overlapping one until that gap is back to 0 after it has left.
+    Each body is where its flight puts it at each time tried (a static stays, as a body of
+    position and velocity 0); the state is not changed."""
+    kb = kind[b]
+    eb0 = ext[b, 0]
+    eb1 = ext[b, 1]
+    eb2 = ext[b, 2]
+    ka = kind[a] if a >= 0 else 0
+    ea0 = ext[a, 0] if a >= 0 else 0.0
+    ea1 = ext[a, 1] if a >= 0 else 0.0
+    ea2 = ext[a, 2] if a >= 0 else 0.0
+    s = -1 - a
+    ax = acc[b, 0] - (acc[a, 0] if a >= 0 else 0.0)
+    ay = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
+    az = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
+    straight = ax == 0.0 and ay == 0.0 and az == 0.0 and a >= 0 and ka <= sk.BALL_3D and kb <= sk.BALL_3D
     t = t0
     jumped = False
     for _ in range(TOI_ITERATIONS):
-        sep = _separation_at(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, k2, p2, v2, e2)
+        d = t - tau[b]
+        bx = pos[b, 0] + vel[b, 0] * d + 0.5 * acc[b, 0] * d * d
+        by = pos[b, 1] + vel[b, 1] * d + 0.5 * acc[b, 1] * d * d
+        bz = pos[b, 2] + vel[b, 2] * d + 0.5 * acc[b, 2] * d * d
+        wbx = vel[b, 0] + acc[b, 0] * d
+        wby = vel[b, 1] + acc[b, 1] * d
+        wbz = vel[b, 2] + acc[b, 2] * d
+        px = py = pz = wax = way = waz = 0.0
+        if a >= 0:
+            d = t - tau[a]
+            px = pos[a, 0] + vel[a, 0] * d + 0.5 * acc[a, 0] * d * d
+            py = pos[a, 1] + vel[a, 1] * d + 0.5 * acc[a, 1] * d * d
+            pz = pos[a, 2] + vel[a, 2] * d + 0.5 * acc[a, 2] * d * d
+            wax = vel[a, 0] + acc[a, 0] * d
+            way = vel[a, 1] + acc[a, 1] * d
+            waz = vel[a, 2] + acc[a, 2] * d
+            sep = sk._pair_sep(ka, px, py, pz, ea0, ea1, ea2, kb, bx, by, bz, eb0, eb1, eb2)
+        else:
+            sep = sk._static_sep(
+                s_kind[s], s_a[s, 0], s_a[s, 1], s_a[s, 2], s_b[s, 0], s_b[s, 1], s_b[s, 2],
+                kb, bx, by, bz, eb0, eb1, eb2,
+            )  # fmt: skip
         nx = sep[1]
         ny = sep[2]
         nz = sep[3]
-        s1 = (v2[1, 0] - v2[0, 0]) * nx + (v2[1, 1] - v2[0, 1]) * ny + (v2[1, 2] - v2[0, 2]) * nz
-        ax = acc[b, 0] - (acc[a, 0] if a >= 0 else 0.0)
-        ay = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
-        az = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
+        s1 = (wbx - wax) * nx + (wby - way) * ny + (wbz - waz) * nz
         s2 = 0.5 * (ax * nx + ay * ny + az * nz)
         if sep[0] <= gap:
-            still = _rounding_speed(v2[0, 0], v2[0, 1], v2[0, 2], v2[1, 0], v2[1, 1], v2[1, 2])
+            still = _rounding_speed(wax, way, waz, wbx, wby, wbz)
             if s1 < -still or (s1 <= still and s2 < 0.0):
                 return t
             if jumped or s2 >= 0.0:
@@ -265,18 +306,10 @@ def _time_of_impact(
             if t >= t_end:
                 return math.inf
             continue
-        if (
-            s2 == 0.0
-            and ax == 0.0
-            and ay == 0.0
-            and az == 0.0
-            and a >= 0
-            and k2[0] <= sk.BALL_3D
-            and k2[1] <= sk.BALL_3D
-        ):
+        if s2 == 0.0 and straight:
             # Two balls in straight flight: |p + w t| = r_a + r_b in closed form (Ericson 4.4.3),
             # exact also for a graze, which the iteration would only approach.
-            step = _ball_ball_root(p2, v2, e2[0, 0] + e2[1, 0], t_end - t)
+            step = _ball_ball_root(bx - px, by - py, bz - pz, wbx - wax, wby - way, wbz - waz, ea0 + eb0, t_end - t)
         else:
             step = _first_root(sep[0], s1, s2, t_end - t)
         if step == math.inf:
@@ -750,10 +783,6 @@ def run_exact_steps(
     tau = np.zeros(n)
     sup = np.zeros((n, MAX_SUPPORTS, 3))
     nsup = np.zeros(n, np.int64)
-    k2 = np.zeros(2, np.int64)
-    p2 = np.zeros((2, 3))
-    v2 = np.zeros((2, 3))
-    e2 = np.zeros((2, 3))
     before = np.zeros(6)
     queue = np.zeros(n, np.int64)
     queued = np.zeros(n, np.int8)
@@ -921,9 +950,7 @@ def run_exact_steps(
                 b = cb[c]
                 if rest[c] == 1 or (ima[b] == 0.0 and (a < 0 or ima[a] == 0.0)):
                     continue
-                when = _time_of_impact(
-                    kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, k2, p2, v2, e2, gap
-                )
+                when = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap)
                 if when < dt:
                     ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                     size = _heap_push(ht, hk, hv, size, when, c, 0)
@@ -991,9 +1018,7 @@ def run_exact_steps(
                     sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                     ver[c] += 1
                     if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
-                        again = _time_of_impact(
-                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, k2, p2, v2, e2, gap
-                        )
+                        again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap)
                         if again < dt:
                             ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                             size = _heap_push(ht, hk, hv, size, again, c, ver[c])
@@ -1270,9 +1295,7 @@ def run_exact_steps(
                             continue
                         if ima[b2] == 0.0 and (a2 < 0 or ima[a2] == 0.0):
                             continue
-                        again = _time_of_impact(
-                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, k2, p2, v2, e2, gap
-                        )
+                        again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap)
                         if again < dt:
                             ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                             size = _heap_push(ht, hk, hv, size, again, c2, ver[c2])

@@ -97,6 +97,7 @@ INLINE = (
     "_cell_of",
     "_lex_cmp",
     "_lex3",
+    "_contact_cmp",
     "_orient",
     "_static_bounds_meet",
     "_pair_key",
