@@ -216,7 +216,7 @@ def _search(a: Shape, b: Shape, velocity: Vector3D, acceleration: Vector3D, max_
     t = 0.0
     for _ in range(_ROUNDS):
         with np.errstate(all="ignore"):  # a root beyond the range is inf (no touch), as compiled
-            reached = ek._time_of_impact(*state, t, end, 0.0)
+            reached = ek._time_of_impact(*state, t, end, 0.0, -math.inf)
             if reached == math.inf:
                 return None
             sep = ek._separation_at(*state, reached, k2, p2, v2, e2)

@@ -239,13 +239,17 @@ def _time_of_impact(
     t0: float,
     t_end: float,
     gap: float,
+    floor: float,
 ) -> float:
     """The time in ``[t0, t_end)`` when pair ``(a, b)`` first comes within ``gap`` while
     approaching, or ``inf`` (conservative advancement, the module docstring's phase 3). A pair in
     contact and separating is followed until its gap along the normal closes again (a slow hop
     under gravity), once; an overlapping one until that gap is back to 0 after it has left.
     Each body is where its flight puts it at each time tried (a static stays, as a body of
-    position and velocity 0); the state is not changed."""
+    position and velocity 0); the state is not changed. ``floor`` is a bound the caller knows
+    the pair's separation at ``t0`` is not below (``-inf`` if none): if the flight cannot close
+    it to ``gap`` by ``t_end`` (the shapes do not turn, so a separation changes no faster than
+    their relative position), there is no impact and nothing is computed."""
     kb = kind[b]
     eb0 = ext[b, 0]
     eb1 = ext[b, 1]
@@ -259,6 +263,21 @@ def _time_of_impact(
     ay = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
     az = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
     straight = ax == 0.0 and ay == 0.0 and az == 0.0 and a >= 0 and ka <= sk.BALL_3D and kb <= sk.BALL_3D
+    if floor > gap:
+        span = t_end - t0
+        d = t0 - tau[b]
+        wx = vel[b, 0] + acc[b, 0] * d
+        wy = vel[b, 1] + acc[b, 1] * d
+        wz = vel[b, 2] + acc[b, 2] * d
+        if a >= 0:
+            d = t0 - tau[a]
+            wx -= vel[a, 0] + acc[a, 0] * d
+            wy -= vel[a, 1] + acc[a, 1] * d
+            wz -= vel[a, 2] + acc[a, 2] * d
+        travel = math.sqrt(wx * wx + wy * wy + wz * wz) * span
+        travel += 0.5 * math.sqrt(ax * ax + ay * ay + az * az) * span * span
+        if floor - travel > gap:
+            return math.inf
     t = t0
     jumped = False
     for _ in range(TOI_ITERATIONS):
@@ -950,7 +969,7 @@ def run_exact_steps(
                 b = cb[c]
                 if rest[c] == 1 or (ima[b] == 0.0 and (a < 0 or ima[a] == 0.0)):
                     continue
-                when = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap)
+                when = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap, -cd[c])
                 if when < dt:
                     ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                     size = _heap_push(ht, hk, hv, size, when, c, 0)
@@ -1018,7 +1037,9 @@ def run_exact_steps(
                     sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                     ver[c] += 1
                     if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
-                        again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap)
+                        again = _time_of_impact(
+                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0]
+                        )
                         if again < dt:
                             ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                             size = _heap_push(ht, hk, hv, size, again, c, ver[c])
@@ -1295,7 +1316,10 @@ def run_exact_steps(
                             continue
                         if ima[b2] == 0.0 and (a2 < 0 or ima[a2] == 0.0):
                             continue
-                        again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap)
+                        floor = -cd[c2] - _closing(a2, when - t, u_bound, v_bound, a_bound)
+                        again = _time_of_impact(
+                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor
+                        )
                         if again < dt:
                             ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
                             size = _heap_push(ht, hk, hv, size, again, c2, ver[c2])
@@ -1310,6 +1334,7 @@ def run_exact_steps(
             near_idx = np.zeros(2 * count, np.int64)
             seen = np.zeros(2 * count, np.int64)
         n_push = 0
+        overlap = False
         for c in range(count):
             closing = _closing(ca[c], dt - t, u_bound, v_bound, a_bound)
             if -cd[c] - closing > contact_margin + gap:
@@ -1320,15 +1345,20 @@ def run_exact_steps(
             if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
                 near_idx[n_push] = c
                 n_push += 1
-        order = _order_subset(pos, ca, cb, cd, near_idx, n_push)
-        for _ in range(passes):
-            if (
-                sk._push_apart(
-                    kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, order, gravity, slop, solver_margin, ledger
-                )
-                == 0
-            ):
-                break
+                overlap = overlap or cd[c] > 0.0
+        # Push-apart moves only overlapping pairs (the others only once a push makes them
+        # overlap): with none, its first pass would move nothing, so neither it nor its order
+        # is needed.
+        if overlap:
+            order = _order_subset(pos, ca, cb, cd, near_idx, n_push)
+            for _ in range(passes):
+                if (
+                    sk._push_apart(
+                        kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, order, gravity, slop, solver_margin, ledger
+                    )
+                    == 0
+                ):
+                    break
         sk._clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
         near = np.zeros(count, np.int8)
         for c in range(count):
