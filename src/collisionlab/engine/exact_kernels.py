@@ -102,6 +102,8 @@ INLINE = (
     "_rest",
     "_closing",
     "_speed_beyond",
+    "_remember",
+    "_recalled",
     "_base_acceleration",
     "_heap_push",
     "_heap_pop",
@@ -628,6 +630,20 @@ def _closing(a: int, elapsed: float, u_bound: float, v_bound: float, a_bound: fl
     return v_bound * elapsed + drift
 
 
+def _remember(sep_ev: Any, sep_val: Any, c: int, ev: int, sep: Any) -> None:
+    """Keep pair ``c``'s separation ``sep``, measured while event ``ev`` is resolved."""
+    sep_ev[c] = ev
+    for k in range(7):
+        sep_val[c, k] = sep[k]
+
+
+def _recalled(sep_val: Any, c: int) -> Any:
+    """Pair ``c``'s separation kept by :func:`_remember`."""
+    return (
+        sep_val[c, 0], sep_val[c, 1], sep_val[c, 2], sep_val[c, 3], sep_val[c, 4], sep_val[c, 5], sep_val[c, 6]
+    )  # fmt: skip
+
+
 def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
     """Gravity for a body of finite mass, nothing for a kinematic one; no supports."""
     for k in range(3):
@@ -820,6 +836,7 @@ def run_exact_steps(
     cell_key = np.zeros(n, np.int64)
     hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
     no_normals = np.zeros((0, 3))
+    ev = 0  # the events resolved so far (the separations' memory)
     v_ref = np.zeros(3)  # the frame the candidates' sweep is measured in (_velocity_bounds)
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
     for step in range(first_step, first_step + steps):
@@ -963,6 +980,10 @@ def run_exact_steps(
                 fill[cb[c]] += 1
             # Phase 3: every candidate's first impact.
             ver = np.zeros(2 * count, np.int64)  # a pair's prediction, then (count + c) its rest's expiry
+            # Separations measured at the time of the event being resolved (number sep_ev[c]):
+            # the positions stay while it is (an impulse changes velocities only).
+            sep_ev = np.full(count, -1, np.int64)
+            sep_val = np.zeros((count, 7))
             size = 0
             for c in range(count):
                 a = ca[c]
@@ -988,6 +1009,7 @@ def run_exact_steps(
                 size = _heap_pop(ht, hk, hv, size)
                 if version != ver[c]:
                     continue
+                ev += 1
                 if when >= dt:
                     break
                 if impacts >= MAX_IMPACTS_PER_STEP:
@@ -1035,6 +1057,7 @@ def run_exact_steps(
                             is_kicked[i] = 1
                 else:
                     sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+                    _remember(sep_ev, sep_val, c, ev, sep)
                     ver[c] += 1
                     if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
                         again = _time_of_impact(
@@ -1138,9 +1161,13 @@ def run_exact_steps(
                             if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
                                 continue  # too far apart when listed to be in contact yet
                             other = b2 if a2 == i else a2
-                            if other >= 0:
-                                _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                            sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                            if sep_ev[c2] == ev:
+                                sep2 = _recalled(sep_val, c2)
+                            else:
+                                if other >= 0:
+                                    _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                                sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                                _remember(sep_ev, sep_val, c2, ev, sep2)
                             if sep2[0] > contact_margin:
                                 continue
                             for k in range(3):
@@ -1240,9 +1267,13 @@ def run_exact_steps(
                                     continue
                                 if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
                                     continue
-                                if other >= 0:
-                                    _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                                sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                                if sep_ev[c2] == ev:
+                                    sep2 = _recalled(sep_val, c2)
+                                else:
+                                    if other >= 0:
+                                        _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                                    sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                                    _remember(sep_ev, sep_val, c2, ev, sep2)
                                 if (
                                     sep2[0] <= contact_margin
                                     and _rest(
@@ -1317,6 +1348,8 @@ def run_exact_steps(
                         if ima[b2] == 0.0 and (a2 < 0 or ima[a2] == 0.0):
                             continue
                         floor = -cd[c2] - _closing(a2, when - t, u_bound, v_bound, a_bound)
+                        if sep_ev[c2] == ev:
+                            floor = max(floor, sep_val[c2, 0])
                         again = _time_of_impact(
                             kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor
                         )
