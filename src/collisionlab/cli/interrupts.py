@@ -9,7 +9,7 @@ import signal
 from collections.abc import Callable, Iterator
 from types import FrameType
 
-__all__ = ["Pending", "Stopped", "between_chunks", "deferred_interrupts", "stop_on_signals"]
+__all__ = ["Pending", "Stopped", "between_chunks", "deferred_interrupts", "remembered_interrupts", "stop_on_signals"]
 
 #: The signals handled as Ctrl-C, where the platform has them.
 _SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
@@ -82,6 +82,22 @@ def deferred_interrupts() -> Iterator[Pending]:
     with _handlers((signal.SIGINT, *_SIGNALS), pending.note):
         yield pending
     pending.check()  # one that came after the caller's last look still stops the program
+
+
+@contextlib.contextmanager
+def remembered_interrupts() -> Iterator[Pending]:
+    """Within: Ctrl-C, SIGTERM and SIGHUP raise at once, as usual, and are also noted, for the
+    caller to :meth:`Pending.check` again. Python prints and drops an exception raised while a
+    garbage-collector callback runs (dask's ``distributed`` installs one), so the raise alone
+    can be lost; the note is not."""
+    pending = Pending()
+
+    def note_and_raise(signum: int, frame: FrameType | None) -> None:
+        pending.note(signum, frame)
+        pending.check()
+
+    with _handlers((signal.SIGINT, *_SIGNALS), note_and_raise):
+        yield pending
 
 
 def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None = None) -> Callable[[int, int], None]:

@@ -14,7 +14,7 @@ from typing import Any
 
 from ..atomic import check_target
 from ..errors import InvalidInputError
-from .interrupts import Stopped
+from .interrupts import Stopped, remembered_interrupts
 from .progress import SHOW_AFTER
 from .run_command import positive_int
 from .streams import Streams
@@ -121,8 +121,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     progress = _Progress(streams, args.quiet)
     try:
         if len(store.rows) < total:
-            with dask_client(args.scheduler, args.workers) as client:
-                outcome = run_sweep(spec, store, client, progress)
+            with remembered_interrupts() as interrupt, dask_client(args.scheduler, args.workers) as client:
+                outcome = run_sweep(spec, store, client, progress, interrupt.check)
         else:
             store.close()
             outcome = None

@@ -110,9 +110,17 @@ def dask_client(scheduler: str | None = None, workers: int | None = None) -> Ite
         yield client
 
 
-def run_sweep(spec: SweepSpec, store: ResultStore, client: Client, progress: Progress | None = None) -> SweepOutcome:
+def run_sweep(
+    spec: SweepSpec,
+    store: ResultStore,
+    client: Client,
+    progress: Progress | None = None,
+    check: Callable[[], None] | None = None,
+) -> SweepOutcome:
     """Run every row of ``spec`` that ``store`` does not hold yet, adding each row as it arrives.
-    The store is closed (both files written whole) on the way out, also on Ctrl-C."""
+    ``check`` runs as each row arrives and once at the end (the CLI raises an interrupt there that
+    Python may have dropped on the way). The store is closed (both files written whole) on the way
+    out, also on Ctrl-C."""
     from distributed import as_completed
 
     columns = dict(store.columns)
@@ -131,6 +139,8 @@ def run_sweep(spec: SweepSpec, store: ResultStore, client: Client, progress: Pro
         futures = {future: (task, 0) for future, task in zip(submitted, tasks, strict=True)}
         pending = as_completed(list(futures))
         for future in pending:
+            if check is not None:
+                check()
             task, attempt = futures.pop(future)
             if future.status != "finished":  # its workers died (KilledWorker) or it was lost
                 if attempt < RESUBMITS:
@@ -147,6 +157,8 @@ def run_sweep(spec: SweepSpec, store: ResultStore, client: Client, progress: Pro
                 written += 1
                 if progress is not None:
                     progress(skipped + written, total, time.monotonic() - began, written)
+        if check is not None:
+            check()
     finally:
         store.close()
     errors = sum(1 for row in store.rows.values() if row["error"])
