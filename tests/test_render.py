@@ -13,7 +13,7 @@ import re
 import numpy as np
 import pytest
 
-from collisionlab.cli.render import render, render_csv, render_json, render_table
+from collisionlab.cli.render import COMPILE_NOTICE, render, render_csv, render_json, render_table
 from collisionlab.demos import load_demo
 from collisionlab.model import Body, Obstacle, Scenario, Settings
 from collisionlab.record import Frame, FrameBodies, RunRecord
@@ -224,14 +224,22 @@ def test_frames_from_a_worlds_arrays_print_no_signed_zero() -> None:
     assert not re.search(r"-0(\.0*)?(?![0-9.e])", text)
 
 
+@pytest.mark.parametrize("compiled_from", [1, 10**9])  # every block laid out by the kernel; none
 @pytest.mark.parametrize("dim", [2, 3])
-def test_a_worlds_event_blocks_print_as_its_events_do(dim: int) -> None:
+def test_a_worlds_event_blocks_print_as_its_events_do(
+    monkeypatch: pytest.MonkeyPatch, dim: int, compiled_from: int
+) -> None:
     # The table writer prints a world's events from their columns (EventBlock); replaying the
     # record prints them from CollisionEvent objects, one by one. The two texts must agree,
     # line for line: bodies against walls and against each other, signed zeros included.
+    import numba  # noqa: F401  (the kernel is used only once numba is loaded)
+
+    from collisionlab.cli import render
     from collisionlab.cli.render import TableWriter
     from collisionlab.edmd.observables import ExactGas
     from collisionlab.engine.world import World
+
+    monkeypatch.setattr(render, "_COMPILED_EVENTS", compiled_from)
 
     world = World(ExactGas(n=80, dim=dim, fraction=0.3, time=4.0, seed=2).scenario(frames=8))
     streamed = io.StringIO()
@@ -240,22 +248,51 @@ def test_a_worlds_event_blocks_print_as_its_events_do(dim: int) -> None:
     assert streamed.getvalue() == render_table(record, every=4, quiet=True)
 
 
-@pytest.mark.parametrize(
-    ("cached", "heard"), [(False, ["compiling the JSON writer's kernel (once per machine)..."]), (True, [])]
-)
-def test_the_json_writer_says_once_that_its_kernel_compiles(
-    monkeypatch: pytest.MonkeyPatch, cached: bool, heard: list[str]
+@pytest.mark.parametrize("compiled_from", [1, 10**9])
+@pytest.mark.parametrize("seed", range(4))
+def test_random_event_blocks_print_as_their_events_do(
+    monkeypatch: pytest.MonkeyPatch, seed: int, compiled_from: int
+) -> None:
+    # Random blocks (odd and non-ASCII names, signed zeros, obstacles on either side, steps out
+    # of order): the block's text, by the kernel or by %, is the events' own lines one by one.
+    import numba  # noqa: F401
+
+    from collisionlab.cli import render
+    from tests.test_record import _block
+
+    monkeypatch.setattr(render, "_COMPILED_EVENTS", compiled_from)
+    block = _block(700, seed)
+    for dims in (2, 3):
+        texts = render._block_texts(block, dims)
+        events = sorted(block, key=lambda event: event.step)  # stable: a step's events in order
+        lines = [line + "\n" for event in events for line in render._event_lines(event, dims, False)]
+        assert "".join(text for _, text in texts) == "".join(lines)
+        assert [step for step, _ in texts] == sorted({event.step for event in events})
+
+
+@pytest.mark.parametrize(("cached", "heard"), [(False, [COMPILE_NOTICE]), (True, [])])
+@pytest.mark.parametrize("fmt", ["json", "table"])
+def test_the_writers_say_once_that_their_kernel_compiles(
+    monkeypatch: pytest.MonkeyPatch, cached: bool, heard: list[str], fmt: str
 ) -> None:
     # A bouncing ball's run hands over several blocks of events (one a chunk of steps): the
-    # notice comes once, before the first, and only when the kernel is not in the cache.
+    # notice comes once, before the first, and only when the kernel is not in the cache. (The
+    # table lays out only large blocks by the kernel: here every block.)
+    import numba  # noqa: F401  (the table uses the kernel only once numba is loaded)
+
     from collisionlab import text_kernels
-    from collisionlab.cli.render import JsonWriter
+    from collisionlab.cli import render
     from collisionlab.engine.world import World
 
     monkeypatch.setattr(text_kernels, "is_cached", lambda: cached)
+    monkeypatch.setattr(render, "_COMPILED_EVENTS", 1)
     told: list[str] = []
     out = io.StringIO()
-    record = World(load_demo("bouncing-ball")).run(observer=JsonWriter(out, notify=told.append), keep=False)
+    writer = render.writer_for(fmt, out, notify=told.append)
+    record = World(load_demo("bouncing-ball")).run(observer=writer, keep=False)
     assert record.collision_count >= 2  # e = 0.8 from 1 m: many bounces in the demo's 3 s
     assert told == heard
-    assert len(json.loads(out.getvalue())["events"]) == record.collision_count
+    if fmt == "json":
+        assert len(json.loads(out.getvalue())["events"]) == record.collision_count
+    else:
+        assert out.getvalue().count("collision at step") == record.collision_count

@@ -398,6 +398,7 @@ class EventBlock(BuiltSequence[CollisionEvent]):
         # Bytes an event writes besides its numbers and names: at most every literal, a step.
         fixed = int(literal_bounds[-1]) + 20
         lay_out = text_kernels.compiled()
+        no_values = np.empty((min(size, len(self)), 0))  # the JSON's numbers come as text
         for start in range(0, len(self), size):
             rows = slice(start, start + size)
             text = _json_array(numbers[rows])
@@ -405,7 +406,7 @@ class EventBlock(BuiltSequence[CollisionEvent]):
             out = np.empty(len(text) + len(a) * fixed + 3 * int(lengths[a].sum() + lengths[b].sum()), np.uint8)
             written = lay_out(
                 np.frombuffer(text, np.uint8), steps[rows], a, b, flags[rows], names, name_bounds,
-                program, literals, literal_bounds, out,
+                program, literals, literal_bounds, out, no_values[: len(a)], np.empty(len(a) + 1, np.int64),
             )  # fmt: skip
             yield out[:written].tobytes().decode()
 

@@ -4,14 +4,17 @@ collision lines, CSV, JSON, the ``--explain`` working and the summary. Text only
 from __future__ import annotations
 
 import csv
+import functools
 import io
 import json
 import math
+import sys
 import tempfile
 from collections.abc import Callable, Iterable, Sequence
 from typing import IO, Any, TextIO
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .. import text_kernels
 from ..atomic import copy_file
@@ -20,6 +23,7 @@ from ..textformat import format_float as _f
 from ..vector import Vector3D
 
 __all__ = [
+    "COMPILE_NOTICE",
     "CsvWriter",
     "JsonWriter",
     "TableWriter",
@@ -88,29 +92,142 @@ def _block_templates(dims: int) -> tuple[str, str]:
     )
 
 
-def _block_texts(block: EventBlock, dims: int) -> list[tuple[int, str]]:
+@functools.cache
+def _table_program(dims: int) -> tuple[NDArray[np.int64], NDArray[np.uint8], NDArray[np.int64]]:
+    """:func:`_block_templates`'s two texts as one program of :func:`text_kernels.lay_out
+    <collisionlab.text_kernels.lay_out>` (its rows, literals and their bounds), reading the
+    values time, A's velocity after, B's velocity after."""
+    rows: list[tuple[int, int, int, int]] = []
+    literals: list[bytes] = []
+    only = 0
+
+    def put(*items: str | tuple[int, int]) -> None:
+        for item in items:
+            if isinstance(item, str):
+                literals.append(item.encode())
+                rows.append((text_kernels.LITERAL, len(literals) - 1, 0, only))
+            else:
+                rows.append((item[0], item[1], 0, only))
+
+    def vector(first: int) -> list[str | tuple[int, int]]:
+        items: list[str | tuple[int, int]] = [" = ("]
+        for k in range(dims):
+            items += [", "] if k else []
+            items.append((text_kernels.FIXED3, first + k))
+        return items
+
+    a, b = (text_kernels.NAME_A, 0), (text_kernels.NAME_B, 0)
+    put("collision at step ", (text_kernels.STEP, 0), " (t = ", (text_kernels.FIXED3, 0), " s): ")
+    only = text_kernels.PAIRS_ONLY
+    put(a, " and ", b, " collide\n  velocities after: ", a, *vector(1), "), ", b, *vector(1 + dims), ") m/s\n")
+    only = text_kernels.OBSTACLES_ONLY
+    put(b, " hits ", a, "\n  velocity after: ", b, *vector(1 + dims), ") m/s\n")
+    bounds = np.cumsum([0, *map(len, literals)], dtype=np.int64)
+    return np.array(rows, dtype=np.int64), np.frombuffer(b"".join(literals), np.uint8), bounds
+
+
+#: Blocks of at least this many events are laid out by compiled code when numba is loaded
+#: already (by the engine's compiled kernels); smaller ones, and every block of a run that never
+#: loads numba (the lab's cases), by ``%``, which costs no compiler start-up (~0.7 s).
+_COMPILED_EVENTS = 512
+
+
+#: What a writer says (through its ``notify``) before the text kernel compiles.
+COMPILE_NOTICE = "compiling the output writers' text kernel (once per machine)..."
+
+
+def _block_texts(block: EventBlock, dims: int, compiling: Callable[[], None] | None = None) -> list[tuple[int, str]]:
     """The text of :func:`_event_lines` (without ``--explain``) of every event of ``block``, one
     text (its lines, each ending in a newline) per step, the steps in order and each step's
-    events in the block's order: the same text, written from the block's columns, with one ``%``
-    a step (a heap of balls makes millions of events)."""
+    events in the block's order, written from the block's columns with no loop over the events
+    in Python (a heap of balls makes millions): by compiled code (:func:`_laid_out_texts`) or
+    with one ``%`` a step (:func:`_formatted_texts`), the same text either way. ``compiling`` is
+    called before the compiled code is used."""
     n = len(block)
     if not n:
         return []
-    steps, a, b = block.step, block.a, block.b
-    order = np.argsort(steps, kind="stable") if np.any(np.diff(steps) < 0) else slice(None)
-    steps, a, b = steps[order], a[order], b[order]
-    ids, index = np.unique(np.concatenate((a, b)), return_inverse=True)
-    names = np.array([block.static_names[-1 - i] if i < 0 else block.names[i] for i in ids.tolist()], dtype=object)
-    name_a, name_b = names[index[:n]], names[index[n:]]
-    static = a < 0
+    steps = block.step
+    order = np.argsort(steps, kind="stable") if np.any(np.diff(steps) < 0) else np.arange(n)
+    steps = steps[order]
+    ids, index = np.unique(np.concatenate((block.a[order], block.b[order])), return_inverse=True)
+    names = [block.static_names[-1 - i] if i < 0 else block.names[i] for i in ids.tolist()]
     # No signed zero: a velocity that .3f would write -0.000 (below half a thousandth, as a
     # double: 0.0005 is a little more than 5e-4) is written 0.000.
     after = np.column_stack((block.after_a[order, :dims], block.after_b[order, :dims]))
-    after = np.where(np.abs(after) < 0.0005, 0.0, after).astype(object)
+    after = np.where(np.abs(after) < 0.0005, 0.0, after)
+    values = np.column_stack((block.time[order], after))
+    static = block.a[order] < 0
+    finite = values[np.isfinite(values)]
+    if n >= _COMPILED_EVENTS and "numba" in sys.modules and not np.any(np.abs(finite) >= text_kernels.FIXED3_LIMIT):
+        if compiling is not None:
+            compiling()
+        texts, starts = _laid_out_texts(steps, index, names, static, values, dims)
+    else:
+        texts, starts = _formatted_texts(steps, index, names, static, values, dims)
+    return [(int(steps[start]), text) for start, text in zip(starts, texts, strict=True)]
+
+
+def _step_starts(steps: NDArray[np.int64]) -> list[int]:
+    """Where each step's events begin in the sorted ``steps``."""
+    return [0, *(np.flatnonzero(np.diff(steps)) + 1).tolist()]
+
+
+def _laid_out_texts(
+    steps: NDArray[np.int64], index: NDArray[np.int64], names: list[str], static: NDArray[np.bool_],
+    values: NDArray[np.float64], dims: int, size: int = 16384,
+) -> tuple[list[str], list[int]]:  # fmt: skip
+    """:func:`_block_texts` by :func:`text_kernels.lay_out <collisionlab.text_kernels.lay_out>`,
+    ``size`` events at a time: each step's text and its first event."""
+    n = len(steps)
+    program, literals, literal_bounds = _table_program(dims)
+    encoded = [name.encode() for name in names]
+    name_bytes = np.frombuffer(b"".join(encoded), np.uint8)
+    name_bounds = np.cumsum([0, *map(len, encoded)], dtype=np.int64)
+    name_a, name_b = index[:n].astype(np.int64), index[n:].astype(np.int64)
+    flags = static[:, None]
+    steps = np.ascontiguousarray(steps, dtype=np.int64)
+    values = np.ascontiguousarray(values)
+    longest = int(np.diff(name_bounds).max())
+    # Bytes an event writes at most: every literal, four names, a step, and each value as
+    # "-" + 16 digits + "." + 3 digits (below FIXED3_LIMIT) or "-inf".
+    bound = int(literal_bounds[-1]) + 4 * longest + 21 + 21 * values.shape[1]
+    lay_out = text_kernels.compiled()
+    pieces = []
+    offsets = np.empty(n + 1, np.int64)
+    for start in range(0, n, size):
+        rows = slice(start, start + size)
+        count = len(steps[rows])
+        out = np.empty(count * bound, np.uint8)
+        lay_out(
+            out[:0], steps[rows], name_a[rows], name_b[rows], flags[rows], name_bytes, name_bounds,
+            program, literals, literal_bounds, out, values[rows], offsets[start : start + count + 1],
+        )  # fmt: skip
+        pieces.append((out, offsets[start : start + count + 1].copy()))
+    firsts = _step_starts(steps)
+    texts = []
+    for first, stop in zip(firsts, [*firsts[1:], n], strict=True):
+        parts = []
+        for chunk, (out, local) in enumerate(pieces):
+            lo, hi = max(first - chunk * size, 0), min(stop - chunk * size, len(local) - 1)
+            if lo < hi:
+                parts.append(out[local[lo] : local[hi]].tobytes())
+        texts.append(b"".join(parts).decode())
+    return texts, firsts
+
+
+def _formatted_texts(
+    steps: NDArray[np.int64], index: NDArray[np.int64], names: list[str], static: NDArray[np.bool_],
+    values: NDArray[np.float64], dims: int,
+) -> tuple[list[str], list[int]]:  # fmt: skip
+    """:func:`_block_texts` with one ``%`` a step: each step's text and its first event."""
+    n = len(steps)
+    name_array = np.array(names, dtype=object)
+    name_a, name_b = name_array[index[:n]], name_array[index[n:]]
+    after = values[:, 1:].astype(object)
     after[static, :dims] = ""
     arguments = np.empty((n, 6 + 2 * dims), dtype=object)
     arguments[:, 0] = steps.astype(object)
-    arguments[:, 1] = block.time[order].astype(object)
+    arguments[:, 1] = values[:, 0].astype(object)
     arguments[:, 2] = np.where(static, name_b, name_a)  # "A and B collide", "B hits A"
     arguments[:, 3] = np.where(static, name_a, name_b)
     arguments[:, 4] = np.where(static, "", name_a)
@@ -119,14 +236,14 @@ def _block_texts(block: EventBlock, dims: int) -> list[tuple[int, str]]:
     arguments[:, 6 + dims :] = after[:, dims:]
     pair, obstacle = _block_templates(dims)
     templates = np.where(static, obstacle, pair).astype(object).tolist()
-    values = arguments.ravel().tolist()
+    values_list = arguments.ravel().tolist()
     width = arguments.shape[1]
-    starts = [0, *(np.flatnonzero(np.diff(steps)) + 1).tolist()]
-    out = []
-    for start, stop in zip(starts, [*starts[1:], n], strict=True):
-        text = "".join(templates[start:stop]) % tuple(values[start * width : stop * width])
-        out.append((int(steps[start]), text))
-    return out
+    firsts = _step_starts(steps)
+    texts = [
+        "".join(templates[start:stop]) % tuple(values_list[start * width : stop * width])
+        for start, stop in zip(firsts, [*firsts[1:], n], strict=True)
+    ]
+    return texts, firsts
 
 
 def _skip_line(skip: SkippedContact) -> str:
@@ -178,14 +295,28 @@ def summary_lines(record: RunRecord) -> list[str]:
     return lines
 
 
+def _say_compiling(notify: Callable[[str], None] | None) -> None:
+    """Tell ``notify`` that the text kernel compiles, when numba's cache does not hold it."""
+    if notify is not None and not text_kernels.is_cached():
+        notify(COMPILE_NOTICE)
+
+
 class TableWriter:
     """The lab's output, written as the run goes (a :class:`~collisionlab.record.RunObserver`):
     a row of positions per kept step, each collision announced after its step with the velocity
     after it, warnings, then the summary. ``quiet`` keeps only events and the summary. Events of
     the steps between two kept rows come before the later row, a row's own step's after it."""
 
-    def __init__(self, out: TextIO, every: int = 1, quiet: bool = False, explain: bool = False) -> None:
+    def __init__(
+        self,
+        out: TextIO,
+        every: int = 1,
+        quiet: bool = False,
+        explain: bool = False,
+        notify: Callable[[str], None] | None = None,
+    ) -> None:
         self._out, self._every, self._quiet, self._explain = out, every, quiet, explain
+        self._notify = notify  # hears that the text kernel compiles (once per machine)
         self._dims = 3
         self._steps = 0
         self._pending: list[tuple[int, str]] = []  # (step, its lines) not yet written
@@ -219,7 +350,7 @@ class TableWriter:
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         by_step: dict[int, list[str]] = {}
         if isinstance(events, EventBlock) and not self._explain:  # a world's events: from their columns
-            for step, text in _block_texts(events, self._dims):
+            for step, text in _block_texts(events, self._dims, self._compiling):
                 by_step.setdefault(step, []).append(text)
         else:
             for event in events:
@@ -230,6 +361,11 @@ class TableWriter:
                 by_step.setdefault(skip.step, []).append(_skip_line(skip) + "\n")
         self._pending += sorted(((step, "".join(texts)) for step, texts in by_step.items()), key=lambda item: item[0])
         self._flush(reached)
+
+    def _compiling(self) -> None:
+        """Before the text kernel's first use: say once that it compiles, if it will."""
+        _say_compiling(self._notify)
+        self._notify = None
 
     def warning(self, text: str) -> None:
         self._out.write(f"warning: {text}\n")
@@ -340,9 +476,8 @@ class JsonWriter:
             spool, written = self._spools[key]
             # Each item after ",\n  ", the first of all after "\n  " (the list's first line).
             if isinstance(items, EventBlock):  # a world's events: written from their columns
-                if self._notify is not None and not text_kernels.is_cached():
-                    self._notify("compiling the JSON writer's kernel (once per machine)...")
-                    self._notify = None
+                _say_compiling(self._notify)
+                self._notify = None
                 chunks: Iterable[str] = items.json_chunks(",\n  ")
             else:
                 chunks = ["".join(",\n  " + _dumps_item(item) for item in items)]
@@ -376,12 +511,12 @@ def writer_for(
     notify: Callable[[str], None] | None = None,
 ) -> RunObserver:
     """The writer of ``fmt`` (``table``, ``csv`` or ``json``) into ``out``; ``notify`` hears
-    what takes time (the JSON writer's kernel compiling)."""
+    what takes time (the writers' text kernel compiling)."""
     if fmt == "csv":
         return CsvWriter(out, every)
     if fmt == "json":
         return JsonWriter(out, every, notify)
-    return TableWriter(out, every, quiet, explain)
+    return TableWriter(out, every, quiet, explain, notify)
 
 
 def _replayed(record: RunRecord, writer: Callable[[TextIO], RunObserver]) -> str:
