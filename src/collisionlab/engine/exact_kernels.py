@@ -835,10 +835,10 @@ def run_exact_steps(
     key_of = np.zeros(n, np.int64)
     cell_key = np.zeros(n, np.int64)
     hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
-    no_normals = np.zeros((0, 3))
     ev = 0  # the events resolved so far (the separations' memory)
     v_ref = np.zeros(3)  # the frame the candidates' sweep is measured in (_velocity_bounds)
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
+    cn = np.zeros((ca.shape[0], 3))  # each candidate's unit normal where it was listed; rows as ca
     for step in range(first_step, first_step + steps):
         start = step * dt
         t = 0.0
@@ -877,20 +877,21 @@ def run_exact_steps(
                 while True:  # listed again, into arrays twice as large, when they were too small
                     count = sk._find_pairs(
                         kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts,
-                        stencil, cell_key, ca, cb, cd, no_normals, margin, static_margin,
+                        stencil, cell_key, ca, cb, cd, cn, margin, static_margin,
                     )  # fmt: skip
                     if count <= ca.shape[0]:
                         break
                     ca = np.zeros(2 * count, np.int64)
                     cb = np.zeros(2 * count, np.int64)
                     cd = np.zeros(2 * count)
+                    cn = np.zeros((2 * count, 3))
                 # Phase 2: resting contacts and the accelerations they leave.
                 for i in range(n):
                     _base_acceleration(i, acc, ima, gravity, nsup)
                 touching = np.zeros(count, np.int8)
                 rest = np.zeros(count, np.int8)
                 ignored = np.zeros(count, np.int8)
-                normals = np.zeros((count, 3))
+                normals = cn  # as listed: the positions have not changed since
                 while table.shape[0] < 2 * touch_count[0]:
                     table = np.zeros(2 * table.shape[0], np.int64)
                 sk._mark_touching(touch_keys, touch_count[0], table, ca, cb, ids, n, count, touching)
@@ -906,10 +907,6 @@ def run_exact_steps(
                             near_idx[n_near] = c
                             n_near += 1
                             seen[c] = 0
-                            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
-                            normals[c, 0] = sep[1]
-                            normals[c, 1] = sep[2]
-                            normals[c, 2] = sep[3]
                     order = _order_subset(pos, ca, cb, cd, near_idx, n_near)
                     for i in range(n):
                         changed_at[i] = 0
