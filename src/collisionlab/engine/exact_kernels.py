@@ -106,6 +106,7 @@ INLINE = (
     "_remember",
     "_recalled",
     "_base_acceleration",
+    "_unchanged_since",
     "_heap_push",
     "_heap_pop",
 )
@@ -645,6 +646,15 @@ def _recalled(sep_val: Any, c: int) -> Any:
     )  # fmt: skip
 
 
+def _unchanged_since(seen: Any, changed: Any, c: int, a: int, b: int, start: int) -> bool:
+    """Whether pair ``c`` (bodies ``a``, ``b``) was looked at since tick ``start`` and neither
+    body changed since: :func:`_rest` would then return 0 again (it did, or the pair would
+    rest or a body would have changed)."""
+    if seen[c] < start or changed[b] >= seen[c]:
+        return False
+    return bool(a < 0 or changed[a] < seen[c])
+
+
 def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
     """Gravity for a body of finite mass, nothing for a kinematic one; no supports."""
     for k in range(3):
@@ -1003,6 +1013,16 @@ def run_exact_steps(
     kicked = np.zeros(n, np.int64)
     is_kicked = np.zeros(n, np.int8)
     changed_at = np.zeros(n, np.int64)
+    # Separations measured at the time of the event being resolved (number sep_ev[c], below
+    # every later event's number, so the rows are kept from listing to listing): the positions
+    # stay while it is (an impulse changes velocities only).
+    sep_ev = np.zeros(0, np.int64)
+    sep_val = np.zeros((0, 7))
+    # When the look again at kicked bodies' rests last looked at a pair (look_seen) and last
+    # changed a body (look_changed), on one clock (look_clock): _unchanged_since.
+    look_seen = np.zeros(0, np.int64)
+    look_changed = np.zeros(n, np.int64)
+    look_clock = 0
     near_idx = np.zeros(0, np.int64)
     seen = np.zeros(0, np.int64)
     g_size = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
@@ -1161,10 +1181,10 @@ def run_exact_steps(
                 fill[cb[c]] += 1
             # Phase 3: every candidate's first impact.
             ver = np.zeros(2 * count, np.int64)  # a pair's prediction, then (count + c) its rest's expiry
-            # Separations measured at the time of the event being resolved (number sep_ev[c]):
-            # the positions stay while it is (an impulse changes velocities only).
-            sep_ev = np.full(count, -1, np.int64)
-            sep_val = np.zeros((count, 7))
+            if sep_ev.shape[0] < count:
+                sep_ev = np.full(2 * count, -1, np.int64)
+                sep_val = np.empty((2 * count, 7))
+                look_seen = np.zeros(2 * count, np.int64)
             size = 0
             for c in range(count):
                 a = ca[c]
@@ -1435,6 +1455,7 @@ def run_exact_steps(
                     _advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
                     _base_acceleration(i, acc, ima, gravity, nsup)
                 if resting_on:  # on what holds: a static, a kinematic body, a supported body
+                    look_start = look_clock + 1
                     for _pass in range(MAX_SUPPORTS):
                         changed = False
                         for q in range(n_look):
@@ -1448,6 +1469,10 @@ def run_exact_steps(
                                     continue
                                 if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
                                     continue
+                                if _unchanged_since(look_seen, look_changed, c2, a2, b2, look_start):
+                                    continue  # looked at in this look already, its bodies unchanged: 0 again
+                                look_clock += 1
+                                look_seen[c2] = look_clock
                                 if sep_ev[c2] == ev:
                                     sep2 = _recalled(sep_val, c2)
                                 else:
@@ -1455,30 +1480,33 @@ def run_exact_steps(
                                         _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
                                     sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
                                     _remember(sep_ev, sep_val, c2, ev, sep2)
-                                if (
-                                    sep2[0] <= contact_margin
-                                    and _rest(
-                                        c2,
-                                        a2,
-                                        b2,
-                                        sep2[1],
-                                        sep2[2],
-                                        sep2[3],
-                                        kind,
-                                        vel,
-                                        ext,
-                                        ima,
-                                        acc,
-                                        sup,
-                                        nsup,
-                                        s_kind,
-                                        rest,
-                                        touching,
-                                        rest_speed,
-                                        ledger,
-                                    )
-                                    == 1
-                                ):
+                                if sep2[0] > contact_margin:
+                                    continue
+                                done = _rest(
+                                    c2,
+                                    a2,
+                                    b2,
+                                    sep2[1],
+                                    sep2[2],
+                                    sep2[3],
+                                    kind,
+                                    vel,
+                                    ext,
+                                    ima,
+                                    acc,
+                                    sup,
+                                    nsup,
+                                    s_kind,
+                                    rest,
+                                    touching,
+                                    rest_speed,
+                                    ledger,
+                                )
+                                if done != 0:
+                                    look_changed[b2] = look_clock
+                                    if a2 >= 0:
+                                        look_changed[a2] = look_clock
+                                if done == 1:
                                     changed = True
                                     for k in range(3):
                                         normals[c2, k] = sep2[1 + k]
