@@ -32,9 +32,10 @@ from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
 from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["is_cached", "jit", "jit_inline", "prefetch"]
+__all__ = ["borrowed", "is_cached", "jit", "jit_inline", "prefetch"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
+_A = TypeVar("_A")
 
 
 def jit(function: _F) -> _F:
@@ -91,3 +92,33 @@ def _prefetch(typingctx: Any, array: Any, row: Any, column: Any) -> Any:
 
 #: ``prefetch(A, i, k)``, callable from compiled code (see ``_prefetch``).
 prefetch = cast(Callable[[Any, int, int], None], _prefetch)
+
+
+@intrinsic
+def _borrowed(typingctx: Any, array: Any) -> Any:
+    """``borrowed(A)``: the array ``A`` itself (the same data, shape and strides) without its
+    reference count: no meminfo, no parent object.
+
+    numba counts the references to every array it holds, and it holds a new one whenever a value
+    is bound to a name, also inside a function it inlines (``jit_inline``): the event loop's
+    helpers take a dozen arrays each, and the counts it could not prove redundant were hundreds
+    of ``NRT_incref`` / ``NRT_decref`` calls in the loop, each an atomic read-modify-write (the
+    decrement behind a fence). A profile of a million bodies found 14 % of the time in them, and
+    an atomic operation also waits for the loads before it: the cache misses that the loop's
+    prefetches had set running side by side. With no meminfo each count is a test of a null
+    pointer. Only for arrays the caller keeps alive for the whole call (the arguments of a
+    kernel called from Python), and never to be returned or stored."""
+    if not isinstance(array, types.Array):
+        return None
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        arr = context.make_array(signature.args[0])(context, builder, args[0])
+        arr.meminfo = cgutils.get_null_value(arr.meminfo.type)
+        arr.parent = cgutils.get_null_value(arr.parent.type)
+        return arr._getvalue()
+
+    return array(array), codegen
+
+
+#: ``borrowed(A)``, callable from compiled code (see ``_borrowed``).
+borrowed = cast(Callable[[_A], _A], _borrowed)

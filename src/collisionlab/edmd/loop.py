@@ -32,7 +32,7 @@ from typing import Any
 
 from .calendar import calendar_clear, calendar_insert, calendar_next, calendar_pop, calendar_remove
 from .cells import CELL_FULL, LIST_FULL, build_all_lists, fetch_cells, nearest_image, rebuild_list
-from .compile import jit, jit_inline, prefetch
+from .compile import borrowed, jit, jit_inline, prefetch
 from .layout import (
     COUNT,
     EDGE,
@@ -437,6 +437,10 @@ def run_events(
     max_events: int,
 ) -> int:
     """Handle events in time order up to ``t_end`` (see the module's docstring for the status)."""
+    # The caller holds the arrays for the whole call: the loop need not count references to them.
+    heap, lists, CI, CF = borrowed(heap), borrowed(lists), borrowed(CI), borrowed(CF)
+    F, IX, NB, P, Q = borrowed(F), borrowed(IX), borrowed(NB), borrowed(P), borrowed(Q)
+    G, K, buf = borrowed(G), borrowed(K), borrowed(buf)
     handled = 0
     while True:
         if buf.shape[0] > 0 and K[K_BUFFERED] >= buf.shape[0] - 1:
@@ -480,6 +484,8 @@ def start(heap: Any, lists: Any, CI: Any, CF: Any, F: Any, IX: Any, NB: Any, P: 
     """Bring every body to ``now``, build every list, and predict every event afresh (the
     beginning of a run, or a restart after the neighbour lists or cells were widened). 0, or
     ``LIST_FULL`` / ``CELL_FULL``."""
+    heap, lists, CI, CF = borrowed(heap), borrowed(lists), borrowed(CI), borrowed(CF)
+    F, IX, NB, P, Q, K = borrowed(F), borrowed(IX), borrowed(NB), borrowed(P), borrowed(Q), borrowed(K)
     synchronize(F, P, now)
     status = build_all_lists(F, IX, NB, P, Q, CI, CF)
     if status != 0:
