@@ -34,6 +34,8 @@ __all__ = ["CELL_FULL", "LIST_FULL", "build_all_lists", "fetch_cells", "nearest_
 #: (the caller widens ``CI``); both then build every list again. 0: done.
 LIST_FULL = 3
 CELL_FULL = 4
+#: The slot that begins a cell's second cache line (slots of 16 bytes in rows of 64-byte lines).
+_SECOND_LINE = 4
 
 
 @jit_inline
@@ -155,8 +157,10 @@ def _set_centre(F: Any, P: Any, Q: Any, i: int) -> None:
 
 @jit_inline
 def fetch_cells(P: Any, Q: Any, CI: Any, x: float, y: float, z: float) -> None:
-    """Prefetch the first line of each cell around the point ``(x, y, z)``: where a body about to
-    rebuild its list will look (see ``loop._fetch_ahead``)."""
+    """Prefetch the first two lines of each cell around the point ``(x, y, z)`` (its count and
+    first 7 bodies): where a body about to rebuild its list will look (see ``loop._fetch_ahead``,
+    and :func:`_link_neighbours` itself, which asks for all the cells before it reads the first:
+    their misses then run side by side instead of one after another, a count at a time)."""
     periodic = Q[Q_PERIODIC] != 0
     nc0 = Q[Q_NC]
     nc1 = Q[Q_NC + 1]
@@ -179,7 +183,9 @@ def fetch_cells(P: Any, Q: Any, CI: Any, x: float, y: float, z: float) -> None:
             for o0 in range(3):
                 a0 = _axis_cell(c0, o0, nc0, periodic)
                 if a0 >= 0:
-                    prefetch(CI[a0 + nc0 * (a1 + nc1 * a2)], 0, 0)
+                    cell = CI[a0 + nc0 * (a1 + nc1 * a2)]
+                    prefetch(cell, 0, 0)
+                    prefetch(cell, _SECOND_LINE, 0)
 
 
 @jit_inline
@@ -223,6 +229,7 @@ def _link_neighbours(F: Any, IX: Any, NB: Any, P: Any, Q: Any, CI: Any, CF: Any,
     lz = P[P_L + 2]
     first = i if later_only else -1
     start = IX[i, NNB]
+    fetch_cells(P, Q, CI, xi, yi, zi)
     n = start
     for o2 in range(3):
         a2 = _axis_cell(c2, o2, nc2, periodic)
