@@ -83,9 +83,9 @@ CACHE_LINE = 64
 
 def aligned_zeros(shape: tuple[int, ...], dtype: type = np.float64) -> NDArray[Any]:
     """Zeros whose first byte starts a cache line (numpy's own start 16 bytes into one, from
-    malloc). A row of ``F`` (96 bytes) then holds the position, velocity and times that a
-    neighbour's prediction reads in one line every other row, instead of across two in every
-    row; a neighbour list of 32 (128 bytes) spans two lines, not three.
+    malloc). A row of ``F`` (128 bytes, see :mod:`.layout`) then holds the position, velocity
+    and times that a neighbour's prediction reads in one line, instead of across two; a
+    neighbour list of 32 (128 bytes) spans two lines, not three.
 
     >>> a = aligned_zeros((3, 12))
     >>> a.ctypes.data % CACHE_LINE, a.shape, a.dtype.name, float(a.sum())
