@@ -45,6 +45,7 @@ __all__ = [
     "KIND_NONE",
     "KIND_PAIR",
     "KIND_WALL",
+    "K_AHEAD",
     "K_BUCKETED",
     "K_BUFFERED",
     "K_CUR",
@@ -166,7 +167,8 @@ K_HEAP = 5  # bodies in the heap
 K_CUR = 6  # index of the current block
 K_BUCKETED = 7  # bodies in the ring lists (not the overflow)
 K_BUFFERED = 8  # events written into the event buffer
-NK = 9
+K_AHEAD = 9  # calendar: the body of the next block's list whose rows are being fetched, or -1
+NK = 10
 
 # The event buffer's columns: time, body a, body b (a wall: ``-1 - wall``), impulse; a buffer
 # with ``EVENT_FULL`` columns also gets the working: the unit normal from a to b (3), the

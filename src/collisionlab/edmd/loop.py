@@ -30,7 +30,14 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from .calendar import calendar_clear, calendar_insert, calendar_next, calendar_pop, calendar_remove
+from .calendar import (
+    calendar_clear,
+    calendar_fetch_ahead,
+    calendar_insert,
+    calendar_next,
+    calendar_pop,
+    calendar_remove,
+)
 from .cells import CELL_FULL, LIST_FULL, build_all_lists, fetch_cells, nearest_image, rebuild_list
 from .compile import borrowed, jit, jit_inline, prefetch
 from .layout import (
@@ -455,6 +462,7 @@ def run_events(
         G[G_NOW] = now
         calendar_pop(heap, F, IX, K)
         _fetch_ahead(heap, F, IX, NB, P, Q, K, CI, i)
+        calendar_fetch_ahead(F, IX, K)
         handled += 1
         K[K_EVENTS] += 1
         kind = IX[i, KIND]
