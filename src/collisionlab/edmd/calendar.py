@@ -21,7 +21,7 @@ from __future__ import annotations
 from typing import Any
 
 from .compile import jit, jit_inline, prefetch
-from .layout import EVT, HPOS, K_AHEAD, K_BUCKETED, K_CUR, K_HEAP, NB_UNSCHEDULED, P_BLOCK, Q_NB, QID, QNEXT, QPREV
+from .layout import EVT, HPOS, K_AHEAD, K_BUCKETED, K_CUR, K_HEAP, NB_UNSCHEDULED, P_BLOCK, Q_NB, QID, QNEXT, QPREV, X
 
 __all__ = [
     "calendar_clear",
@@ -207,6 +207,7 @@ def _start_ahead(F: Any, IX: Any, K: Any, i: int) -> None:
     K[K_AHEAD] = i
     if i >= 0:
         prefetch(IX, i, QNEXT)
+        prefetch(F, i, X)  # its flight: the event's handling reads it first
         prefetch(F, i, EVT)
 
 

@@ -7,10 +7,10 @@ The constants are module globals; numba freezes them into the compiled code.
 
 =========  ==============================================================================
 ``F``      position (``X..X+2``), velocity (``V..V+2``), time ``T`` at which position and
-           velocity hold, scheduled event time ``EVT``, neighbour-list centre (``C..C+2``),
-           time ``TLAST`` of the last collision (the TC model)
-``IX``      collision counter ``COUNT``, the partner's counter when the event was scheduled
-           ``PCOUNT``, ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, the
+           velocity hold, collision counter ``COUNT``, neighbour-list centre (``C..C+2``),
+           time ``TLAST`` of the last collision (the TC model), scheduled event time ``EVT``,
+           the partner's counter when the event was scheduled ``PCOUNT``
+``IX``      ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, the
            ``CELL`` its list centre lies in, calendar links ``HPOS, QID, QNEXT, QPREV``,
            neighbour count ``NNB``, ``EDGE`` (cell on a periodic face)
 ``NB``     neighbour lists, one row per body, ``NB[i, :IX[i, NNB]]``
@@ -90,33 +90,34 @@ __all__ = [
     "X",
 ]
 
-# F: float64 per body. Position, velocity, their time and the event time come first: they are
-# what predicting a neighbour's collision and ordering the calendar read, 64 contiguous bytes.
-# A row is 128 bytes (4 columns unused), so that in arrays that start on a cache line
-# (world.aligned_zeros) those 64 bytes are one line in every row: 96-byte rows put every
-# other row's across two, and with a million bodies every neighbour's row is a cache miss
-# (1M, T = 4: 257 k collisions/s against 214 k/s with 96-byte rows; 32 bytes more a body).
+# F: float64 per body. Position, velocity, their time and the collision counter come first:
+# they are what predicting a neighbour's collision reads (the counter of the neighbour that
+# becomes the partner), 64 contiguous bytes. A row is 128 bytes (2 columns unused), so that in
+# arrays that start on a cache line (world.aligned_zeros) those 64 bytes are one line in every
+# row: 96-byte rows put every other row's across two, and with a million bodies every
+# neighbour's row is a cache miss (1M, T = 4: 257 k collisions/s against 214 k/s with 96-byte
+# rows); the counters were in IX, one more miss for the partner's (1M: 216 k/s against 198 k/s).
 X = 0
 V = 3
 T = 6
-EVT = 7
+COUNT = 7  # collisions so far (a float64 counts exactly to 2^53)
 C = 8
 TLAST = 11
-NF = 16  # columns 12-15 unused (the row's length, see above)
+EVT = 12
+PCOUNT = 13  # the partner's COUNT when the event was scheduled
+NF = 16  # columns 14-15 unused (the row's length, see above)
 
 # IX: int32 per body
-COUNT = 0
-PCOUNT = 1
-PARTNER = 2
-KIND = 3
-CELL = 4
-HPOS = 5  # >= 0: index in the heap; -1: in a list (QID); NB_UNSCHEDULED: no event
-QID = 6
-QNEXT = 7
-QPREV = 8
-NNB = 9
-EDGE = 10  # 1 if the body's cell touches a periodic face (only then are nearest images needed)
-NI = 11
+PARTNER = 0
+KIND = 1
+CELL = 2
+HPOS = 3  # >= 0: index in the heap; -1: in a list (QID); NB_UNSCHEDULED: no event
+QID = 4
+QNEXT = 5
+QPREV = 6
+NNB = 7
+EDGE = 8  # 1 if the body's cell touches a periodic face (only then are nearest images needed)
+NI = 9
 
 #: ``IX[i, HPOS]`` of a body with no event (it does not move and nothing is coming).
 NB_UNSCHEDULED = -2

@@ -188,7 +188,7 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
     IX[i, KIND] = kind
     IX[i, PARTNER] = partner
     if kind == KIND_PAIR:
-        IX[i, PCOUNT] = IX[partner, COUNT]
+        F[i, PCOUNT] = F[partner, COUNT]
     calendar_insert(heap, lists, F, IX, P, Q, K, i)
 
 
@@ -250,7 +250,7 @@ def _collide(
     j = IX[i, PARTNER]
     g = P[P_G]
     _advance(F, i, now, g)
-    if IX[j, COUNT] != IX[i, PCOUNT]:
+    if F[j, COUNT] != F[i, PCOUNT]:
         K[K_STALE] += 1
         _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
@@ -308,8 +308,8 @@ def _collide(
         _record_velocities(buf, row, 21, F, j)
     F[i, TLAST] = now
     F[j, TLAST] = now
-    IX[i, COUNT] += 1
-    IX[j, COUNT] += 1
+    F[i, COUNT] += 1.0
+    F[j, COUNT] += 1.0
     K[K_PAIRS] += 1
     calendar_remove(heap, lists, F, IX, Q, K, j)
     _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
@@ -368,7 +368,7 @@ def _bounce(
     if overlap > G[G_MAX_OVERLAP]:
         G[G_MAX_OVERLAP] = overlap
     F[i, TLAST] = now
-    IX[i, COUNT] += 1
+    F[i, COUNT] += 1.0
     K[K_WALLS] += 1
     _predict(heap, lists, F, IX, NB, P, Q, K, i, now)
 
