@@ -31,7 +31,7 @@ step (relative)             smallest radius or   ``sqrt(eps) = 1.5e-8`` of the d
                             half edge            travelled; beyond ~1e7 sizes per step it misses
 during a run: positions     ``|x| <= 1e12`` m,   beyond: the run stops (exit status 65)
 and speeds                  ``|v| <= 1e12`` m/s
-gas: balls                  ``<= 1e7``           the exact gas: ~450 bytes a ball in arrays,
+gas: balls                  ``<= 1e7``           the exact gas: ~475 bytes a ball in arrays,
                                                  ~1 kB resident (measured at 1e6): ~10 GB
 exact gas: time             ``1e-9 .. 1e6``      event times are absolute: at 1e6 a double
                                                  still resolves 1e-10 of a time unit
@@ -128,7 +128,7 @@ MAX_TRAVEL_PER_SIZE = 1e6
 #: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
 MAX_RUN_COORDINATE = 1e12
 MAX_RUN_SPEED = 1e12
-#: Balls of the many-body gas (both modes of ``collisionlab gas``): the exact gas holds ~450 bytes
+#: Balls of the many-body gas (both modes of ``collisionlab gas``): the exact gas holds ~475 bytes
 #: a ball in arrays, ~1 kB resident (bench/README.md), so at most ~10 GB.
 MAX_GAS_BALLS = 10_000_000
 #: Time units of the exact gas (radius 1, mass 1, kT 1). Its event times are absolute: at 1e6 a
