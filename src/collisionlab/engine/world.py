@@ -320,7 +320,8 @@ class World:
         exact = exact and self._exact
         if exact not in self._kernels:
             if not compiled.is_cached(exact) and self._notify is not None:
-                self._notify("compiling the engine's kernels (once per machine; about a minute)...")
+                took = "a few minutes" if exact else "about a minute"  # on 2 cores (bench/README.md)
+                self._notify(f"compiling the engine's kernels (once per machine; {took})...")
             self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
         return self._kernels[exact]
 
