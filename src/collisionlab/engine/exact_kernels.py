@@ -783,88 +783,6 @@ def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
     return order
 
 
-def _push_pass(
-    kind: Any,
-    pos: Any,
-    ext: Any,
-    ima: Any,
-    s_kind: Any,
-    s_a: Any,
-    s_b: Any,
-    ca: Any,
-    cb: Any,
-    cd: Any,
-    cn: Any,
-    order: Any,
-    looked: Any,
-    moved: Any,
-    found: int,
-    clock: int,
-    first_pass: bool,
-    gravity: Any,
-    slop: float,
-    solver_margin: float,
-    ledger: Any,
-) -> int:
-    """One pass of :func:`~collisionlab.engine.step_kernels._push_apart` in ``order``, the same
-    moves to the bit, measuring only what can have changed (as the Forward Euler stepper's
-    ``_push_sweep``): after the first pass a pair neither of whose bodies moved since it was last
-    looked at (``moved[body]`` against ``looked[c]``; the pair at ``order[u]`` looks at tick
-    ``clock + u``) would give the same answer, so it is skipped; a pair whose bodies have not
-    moved since tick ``found`` (when ``cd`` and the normals ``cn`` were measured) takes its
-    separation from there. Returns the moves."""
-    moves = 0
-    for u in range(order.shape[0]):
-        c = order[u]
-        if cd[c] < -solver_margin:
-            continue
-        a = ca[c]
-        b = cb[c]
-        ima_a = ima[a] if a >= 0 else 0.0
-        inv_sum = ima_a + ima[b]
-        if inv_sum == 0.0:
-            continue
-        last = moved[b]
-        if a >= 0 and moved[a] > last:
-            last = moved[a]
-        if not first_pass and last < looked[c]:
-            continue  # neither body moved since this pair was last looked at
-        tick = clock + u
-        looked[c] = tick
-        if last < found:
-            gap = -cd[c]
-            nx = cn[c, 0]
-            ny = cn[c, 1]
-            nz = cn[c, 2]
-        else:
-            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-            gap = sep[0]
-            nx = sep[1]
-            ny = sep[2]
-            nz = sep[3]
-        if gap >= 0.0:  # touching is not overlapping: nothing to undo
-            continue
-        ledger[4] = max(ledger[4], -gap)
-        push = slop - gap
-        sa = push * ima_a / inv_sum
-        sb = push * ima[b] / inv_sum
-        change = 0.0
-        for k in range(3):
-            nk = nx if k == 0 else ny if k == 1 else nz
-            if a >= 0 and ima_a > 0.0:
-                pos[a, k] = pos[a, k] - nk * sa
-                change += gravity[k] * nk * sa / ima_a
-            pos[b, k] = pos[b, k] + nk * sb
-            if ima[b] > 0.0:
-                change -= gravity[k] * nk * sb / ima[b]
-        ledger[2] += change
-        if a >= 0:
-            moved[a] = tick
-        moved[b] = tick
-        moves += 1
-    return moves
-
-
 # --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
 def _heap_push(ht: Any, hk: Any, hv: Any, size: int, t: float, k: int, v: int) -> int:
     i = size
@@ -1040,7 +958,7 @@ def run_exact_steps(
     # Each candidate's unit normal where it was listed (phase 2 reads it), then where the step
     # ended (push-apart's first look); rows as ca.
     cn = np.zeros((ca.shape[0], 3))
-    looked = np.zeros(0, np.int64)  # when push-apart last looked at a pair (_push_pass)
+    looked = np.zeros(0, np.int64)  # when push-apart last looked at a pair (_push_sweep)
     moved = np.zeros(n, np.int64)  # when push-apart last moved a body
     push_clock = 0
     for step in range(first_step, first_step + steps):
@@ -1599,7 +1517,7 @@ def run_exact_steps(
             order = _order_subset(pos, ca, cb, cd, near_idx, n_push)
             found = push_clock  # every earlier tick is below it
             for p in range(passes):
-                moves = _push_pass(
+                moves = sk._push_sweep(
                     kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, cn, order, looked, moved, found,
                     found + 1 + p * n_push, p == 0, gravity, slop, solver_margin, ledger,
                 )  # fmt: skip

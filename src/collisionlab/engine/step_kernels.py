@@ -1313,6 +1313,7 @@ def _push_sweep(
     cb: Any,
     cd: Any,
     cn: Any,
+    order: Any,
     seen: Any,
     moved: Any,
     found: int,
@@ -1323,15 +1324,18 @@ def _push_sweep(
     solver_margin: float,
     ledger: Any,
 ) -> int:
-    """:func:`_push_apart`'s pass over the contacts, stored in the order they are resolved,
-    looking at a contact only when it could move something: in the first pass every contact;
-    after it only those one of whose bodies moved since the contact was last looked at
-    (``moved[body]`` against ``seen[c]``, ticks as in :func:`_impulses`: contact ``c`` looks at
-    tick ``clock + c``). A contact neither of whose bodies moved since tick ``found`` (when the
-    contacts were found) takes its separation from there (``-cd``, ``cn``). Either way the same
-    numbers as :func:`_push_apart`. Returns the moves."""
+    """:func:`_push_apart`'s pass over the contacts ``order[0], order[1], ...`` (the Forward
+    Euler stepper stores them in the order they are resolved: ``order`` is ``0, 1, ...``; the
+    exact stepper orders a subset), looking at a contact only when it could move something: in
+    the first pass every contact; after it only those one of whose bodies moved since the
+    contact was last looked at (``moved[body]`` against ``seen[c]``, ticks as in
+    :func:`_impulses`: the contact at ``order[u]`` looks at tick ``clock + u``). A contact neither
+    of whose bodies moved since tick ``found`` (when ``cd`` and the normals ``cn`` were measured)
+    takes its separation from there. Either way the same numbers as :func:`_push_apart`.
+    Returns the moves."""
     moves = 0
-    for c in range(cd.shape[0]):
+    for u in range(order.shape[0]):
+        c = order[u]
         if cd[c] < -solver_margin:
             continue
         a = ca[c]
@@ -1345,7 +1349,7 @@ def _push_sweep(
             last = moved[a]
         if not first_pass and last < seen[c]:
             continue  # neither body moved since this contact was last looked at
-        tick = clock + c
+        tick = clock + u
         seen[c] = tick
         if last < found:  # where it was found: the separation is the one found then
             gap = -cd[c]
@@ -1594,6 +1598,7 @@ def run_steps(
             if event_count[1] == 0:
                 break
         found = clock
+        resolution_order = np.arange(od.shape[0])
         for p in range(passes):
             moves = _push_sweep(
                 kind,
@@ -1607,6 +1612,7 @@ def run_steps(
                 ob,
                 od,
                 on,
+                resolution_order,
                 seen,
                 moved,
                 found,
