@@ -270,6 +270,23 @@ def test_random_event_blocks_print_as_their_events_do(
         assert [step for step, _ in texts] == sorted({event.step for event in events})
 
 
+def test_the_kernel_lays_out_a_block_in_pieces_as_whole() -> None:
+    # A long block is laid out a piece of `size` events at a time; steps that straddle two
+    # pieces come out whole, as the % form writes them (the oracle: Python's own formatting).
+    from collisionlab.cli import render
+
+    rng = np.random.default_rng(3)
+    n = 1000
+    steps = np.sort(rng.integers(0, 40, n))  # ~25 events a step: most pieces cut a step
+    index = rng.integers(0, 5, 2 * n)
+    names = ["a", "bällchen", "c d", "e", "floor"]
+    static = rng.random(n) < 0.3
+    values = np.column_stack((steps * 0.01, rng.normal(size=(n, 6))))
+    whole = render._formatted_texts(steps, index, names, static, values, 3)
+    assert render._laid_out_texts(steps, index, names, static, values, 3, size=37) == whole
+    assert render._laid_out_texts(steps, index, names, static, values, 3) == whole
+
+
 @pytest.mark.parametrize(("cached", "heard"), [(False, [COMPILE_NOTICE]), (True, [])])
 @pytest.mark.parametrize("fmt", ["json", "table"])
 def test_the_writers_say_once_that_their_kernel_compiles(

@@ -193,25 +193,24 @@ def _laid_out_texts(
     bound = int(literal_bounds[-1]) + 4 * longest + 21 + 21 * values.shape[1]
     lay_out = text_kernels.compiled()
     pieces = []
-    offsets = np.empty(n + 1, np.int64)
+    offsets = np.empty(n + 1, np.int64)  # where each event's text starts in the whole text
+    done = 0
     for start in range(0, n, size):
         rows = slice(start, start + size)
         count = len(steps[rows])
         out = np.empty(count * bound, np.uint8)
-        lay_out(
+        written = lay_out(
             out[:0], steps[rows], name_a[rows], name_b[rows], flags[rows], name_bytes, name_bounds,
             program, literals, literal_bounds, out, values[rows], offsets[start : start + count + 1],
         )  # fmt: skip
-        pieces.append((out, offsets[start : start + count + 1].copy()))
+        offsets[start : start + count + 1] += done
+        pieces.append(out[:written].tobytes())
+        done += written
+    whole = b"".join(pieces)
     firsts = _step_starts(steps)
-    texts = []
-    for first, stop in zip(firsts, [*firsts[1:], n], strict=True):
-        parts = []
-        for chunk, (out, local) in enumerate(pieces):
-            lo, hi = max(first - chunk * size, 0), min(stop - chunk * size, len(local) - 1)
-            if lo < hi:
-                parts.append(out[local[lo] : local[hi]].tobytes())
-        texts.append(b"".join(parts).decode())
+    texts = [
+        whole[offsets[first] : offsets[stop]].decode() for first, stop in zip(firsts, [*firsts[1:], n], strict=True)
+    ]
     return texts, firsts
 
 
