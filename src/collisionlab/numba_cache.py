@@ -49,9 +49,20 @@ def cache_files(package: Path) -> list[Path]:
 def forget_stale(package: Path, stems: Iterable[str], sources: Iterable[Path]) -> None:
     """Delete the cached code of ``package``'s files ``stems`` when one of ``sources`` is newer:
     numba keys a cached function on its own file only, so code it inlined from another file (or
-    a constant it baked in) would otherwise run stale after that file changed."""
+    a constant it baked in) would otherwise run stale after that file changed.
+
+    Other processes (test workers, two runs started together) may do the same at the same time:
+    a file that vanishes between the listing and its ``stat`` was removed by one of them and is
+    skipped. Fresh files are never mixed with stale ones, because each process removes every
+    stale file before it compiles, so whoever lists after that sees only fresh files."""
     wanted = tuple(f"{stem}." for stem in stems)
-    cached = [f for f in cache_files(package) if f.name.startswith(wanted)]
-    if cached and min(f.stat().st_mtime for f in cached) < max(s.stat().st_mtime for s in sources):
-        for f in cached:
+    written: dict[Path, float] = {}
+    for f in cache_files(package):
+        if f.name.startswith(wanted):
+            try:
+                written[f] = f.stat().st_mtime
+            except FileNotFoundError:
+                continue
+    if written and min(written.values()) < max(s.stat().st_mtime for s in sources):
+        for f in written:
             f.unlink(missing_ok=True)

@@ -1,0 +1,80 @@
+"""The numba cache's housekeeping: stale compiled code goes, fresh code stays, and two processes
+doing it at once (pytest-xdist workers, two runs started together) do not trip each other."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from collisionlab import numba_cache
+
+
+def _write(path: Path, mtime: float) -> Path:
+    path.write_bytes(b"x")
+    os.utime(path, (mtime, mtime))
+    return path
+
+
+@pytest.fixture
+def package(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)  # the cache then sits in __pycache__
+    folder = tmp_path / "kernels"
+    (folder / "__pycache__").mkdir(parents=True)
+    return folder
+
+
+def test_cached_code_older_than_a_source_it_inlines_is_removed(package: Path) -> None:
+    source = _write(package / "geometry.py", 2_000.0)
+    stale = [
+        _write(package / "__pycache__" / name, 1_000.0) for name in ("step.run-9.py311.nbi", "step.run-9.py311.1.nbc")
+    ]
+    other = _write(package / "__pycache__" / "loop.run-3.py311.nbi", 1_000.0)  # not one of the stems
+    numba_cache.forget_stale(package, ["step"], [source])
+    assert [f.exists() for f in stale] == [False, False]
+    assert other.exists()
+
+
+def test_cached_code_newer_than_every_source_is_kept(package: Path) -> None:
+    source = _write(package / "geometry.py", 1_000.0)
+    fresh = _write(package / "__pycache__" / "step.run-9.py311.nbi", 2_000.0)
+    numba_cache.forget_stale(package, ["step"], [source])
+    assert fresh.exists()
+
+
+def test_a_file_another_process_removed_while_we_looked_is_skipped(
+    package: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Another worker removed step.run-9.py311.nbi between our listing and our stat: the listing
+    # still names it. Before the fix this raised FileNotFoundError and failed every test of the
+    # worker (CI of 2026-11-25, a second run in the same folder as the first).
+    source = _write(package / "geometry.py", 2_000.0)
+    stale = _write(package / "__pycache__" / "step.run-9.py311.1.nbc", 1_000.0)
+    gone = package / "__pycache__" / "step.run-9.py311.nbi"
+    monkeypatch.setattr(numba_cache, "cache_files", lambda _: [gone, stale])
+    numba_cache.forget_stale(package, ["step"], [source])
+    assert not stale.exists()
+
+
+def test_nothing_cached_is_nothing_to_do(package: Path) -> None:
+    source = _write(package / "geometry.py", 2_000.0)
+    numba_cache.forget_stale(package, ["step"], [source])
+    assert list((package / "__pycache__").iterdir()) == []
+
+
+def test_cache_files_finds_what_numba_wrote(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # The oracle is numba itself: a cached function compiled in another process, with
+    # NUMBA_CACHE_DIR set, must be found by cache_files (and so be removable when stale).
+    package = tmp_path / "kernels"
+    package.mkdir()
+    (package / "twice.py").write_text("import numba\n@numba.njit(cache=True)\ndef twice(x):\n    return 2 * x\n")
+    cache = tmp_path / "cache"
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache), "PYTHONPATH": str(package)}
+    code = "import twice; assert twice.twice(21) == 42"
+    subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(cache))
+    found = sorted(f.suffix for f in numba_cache.cache_files(package))
+    assert found == [".nbc", ".nbi"]
