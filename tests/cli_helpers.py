@@ -9,6 +9,7 @@ import os
 import pty
 import re
 import select
+import signal
 import subprocess
 import sys
 import time
@@ -126,32 +127,73 @@ def read_until(fd: int, marker: bytes, timeout: float = 20.0) -> bytes:
     return buffer
 
 
+def _signal_state(pid: int) -> str:
+    """What the kernel says of a hung child's signals and where each of its threads waits
+    (Linux's /proc; elsewhere nothing), for the message of a test that timed out."""
+    lines = []
+    try:
+        for task in sorted(os.listdir(f"/proc/{pid}/task")):
+            status = Path(f"/proc/{pid}/task/{task}/status").read_text()
+            wanted = [row for row in status.splitlines() if row.startswith(("State", "Sig", "ShdPnd"))]
+            wchan = Path(f"/proc/{pid}/task/{task}/wchan").read_text()
+            lines.append(f"thread {task} waits in {wchan!r}: " + ", ".join(" ".join(w.split()) for w in wanted))
+    except OSError as error:
+        lines.append(f"(no /proc: {error})")
+    return "; ".join(lines)
+
+
 def finish(process: subprocess.Popen[bytes], timeout: float = 20.0) -> tuple[int, bytes]:
     """Wait for ``process`` (bounded); kill it if it hangs. Returns the status and its stderr."""
     try:
         _, err = process.communicate(timeout=timeout)
     except subprocess.TimeoutExpired:
+        state = _signal_state(process.pid)
         process.kill()
         _, err = process.communicate()
-        raise AssertionError(f"the child did not end within {timeout} s; stderr {err!r}") from None
+        raise AssertionError(f"the child did not end within {timeout} s; stderr {err!r}; {state}") from None
     return process.returncode, err or b""
 
 
+#: Signals a shell starts a foreground command with at their default, whatever it ignores.
+_SHELL_DEFAULTS = (signal.SIGINT, signal.SIGQUIT, signal.SIGHUP, signal.SIGTERM)
+
+
 @contextlib.contextmanager
-def on_a_terminal(argv: list[str], cwd: Path, stdout_too: bool = True) -> Iterator[tuple[subprocess.Popen[bytes], int]]:
+def as_a_shell_starts_a_command(ignored: tuple[int, ...] = ()) -> Iterator[None]:
+    """Within: a child started inherits ``ignored`` ignored and the other signals a terminal
+    sends at their default, as a shell starts a command, however the test run itself was started
+    (a background job of a script ignores SIGINT, and a child would inherit that)."""
+    saved = {}
+    for signum in _SHELL_DEFAULTS:
+        wanted = signal.SIG_IGN if signum in ignored else signal.SIG_DFL
+        if signum in ignored or signal.getsignal(signum) == signal.SIG_IGN:
+            saved[signum] = signal.signal(signum, wanted)
+    try:
+        yield
+    finally:
+        for signum, previous in saved.items():
+            signal.signal(signum, previous)
+
+
+@contextlib.contextmanager
+def on_a_terminal(
+    argv: list[str], cwd: Path, stdout_too: bool = True, ignored: tuple[int, ...] = ()
+) -> Iterator[tuple[subprocess.Popen[bytes], int]]:
     """The console script with a pseudo-terminal as its stdin (and stdout, unless ``stdout_too``
-    is false: then a pipe), stderr a pipe. Yields the process and the terminal's master end; on
+    is false: then a pipe), stderr a pipe, started as a shell starts a command, ``ignored`` ignored
+    (:func:`as_a_shell_starts_a_command`). Yields the process and the terminal's master end; on
     leaving, a child still running is killed and the terminal closed."""
     master, slave = pty.openpty()
-    process = subprocess.Popen(
-        [str(SCRIPT), *argv],
-        stdin=slave,
-        stdout=slave if stdout_too else subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        cwd=cwd,
-        close_fds=True,
-        env={**os.environ, "TERM": "dumb"},
-    )
+    with as_a_shell_starts_a_command(ignored):
+        process = subprocess.Popen(
+            [str(SCRIPT), *argv],
+            stdin=slave,
+            stdout=slave if stdout_too else subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            cwd=cwd,
+            close_fds=True,
+            env={**os.environ, "TERM": "dumb"},
+        )
     os.close(slave)
     try:
         yield process, master

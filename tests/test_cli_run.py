@@ -579,6 +579,24 @@ def test_sigterm_and_sighup_during_a_run_are_handled_as_ctrl_c(tmp_path: Path, n
     assert files_in(tmp_path) == []
 
 
+def test_a_run_started_ignoring_sighup_runs_on_through_it(tmp_path: Path) -> None:
+    # As under nohup: the terminal may close (SIGHUP) and the run goes on; it used to stop with
+    # "stopped by SIGHUP" (the handler replaced the ignore). SIGTERM still stops it cleanly.
+    target = tmp_path / "out.txt"
+    argv = ["demo", "spheres", "--steps", "1000000", "--quiet", "--output", str(target)]
+    with on_a_terminal(argv, tmp_path, stdout_too=False, ignored=(signal.SIGHUP,)) as (process, _):
+        assert process.stderr is not None
+        read_until(process.stderr.fileno(), b"/1000000")
+        process.send_signal(signal.SIGHUP)
+        read_until(process.stderr.fileno(), b"/1000000")  # the progress bar moves on
+        assert process.poll() is None
+        process.send_signal(signal.SIGTERM)
+        code, err = finish(process)
+    assert code == 143
+    assert err.decode().rstrip().endswith("collisionlab: stopped by SIGTERM")
+    assert files_in(tmp_path) == []
+
+
 @pytest.mark.parametrize("flag, name", [("--plot", "p.txt"), ("--animate", "a.png"), ("--html", "missing/h.html")])
 def test_a_bad_picture_path_fails_before_the_run(tmp_path: Path, flag: str, name: str) -> None:
     # The path is checked first: status 2, one line naming the flag, and nothing simulated or printed.

@@ -1,6 +1,7 @@
 """Signals: SIGTERM and SIGHUP are handled as Ctrl-C (files written atomically are cleaned up,
 one line, exit status 128 + the signal's number), and compiled loops that Python cannot
-interrupt are stepped in short chunks with the interrupt checked between them."""
+interrupt are stepped in short chunks with the interrupt checked between them. A signal the
+program was started ignoring (``nohup``, a background job) stays ignored."""
 
 from __future__ import annotations
 
@@ -35,11 +36,14 @@ def _raise(signum: int, frame: FrameType | None) -> None:
 
 @contextlib.contextmanager
 def _handlers(signals: tuple[int, ...], handler: signal.Handlers | object) -> Iterator[None]:
-    """Install ``handler`` for ``signals`` (only the main thread can), restoring them after."""
+    """Install ``handler`` for ``signals`` (only the main thread can), restoring them after. A
+    signal the program was started ignoring stays ignored, as Python leaves Ctrl-C: ``nohup``
+    (SIGHUP) and a shell's background jobs (SIGINT) ask for that."""
     saved: dict[int, object] = {}
     try:
         for signum in signals:
-            saved[signum] = signal.signal(signum, handler)  # type: ignore[arg-type]
+            if signal.getsignal(signum) != signal.SIG_IGN:
+                saved[signum] = signal.signal(signum, handler)  # type: ignore[arg-type]
     except ValueError:  # not the main thread: leave the signals alone
         pass
     try:
