@@ -154,20 +154,11 @@ def finish(process: subprocess.Popen[bytes], timeout: float = 20.0) -> tuple[int
     return process.returncode, err or b""
 
 
-#: Signals a shell starts a foreground command with at their default, whatever it ignores.
-_SHELL_DEFAULTS = (signal.SIGINT, signal.SIGQUIT, signal.SIGHUP, signal.SIGTERM)
-
-
 @contextlib.contextmanager
-def as_a_shell_starts_a_command(ignored: tuple[int, ...] = ()) -> Iterator[None]:
-    """Within: a child started inherits ``ignored`` ignored and the other signals a terminal
-    sends at their default, as a shell starts a command, however the test run itself was started
-    (a background job of a script ignores SIGINT, and a child would inherit that)."""
-    saved = {}
-    for signum in _SHELL_DEFAULTS:
-        wanted = signal.SIG_IGN if signum in ignored else signal.SIG_DFL
-        if signum in ignored or signal.getsignal(signum) == signal.SIG_IGN:
-            saved[signum] = signal.signal(signum, wanted)
+def ignoring(signals: tuple[int, ...]) -> Iterator[None]:
+    """Within: ``signals`` are ignored, so a child started then inherits the ignore (as
+    ``nohup`` starts a command ignoring SIGHUP); restored after."""
+    saved = {signum: signal.signal(signum, signal.SIG_IGN) for signum in signals}
     try:
         yield
     finally:
@@ -180,11 +171,11 @@ def on_a_terminal(
     argv: list[str], cwd: Path, stdout_too: bool = True, ignored: tuple[int, ...] = ()
 ) -> Iterator[tuple[subprocess.Popen[bytes], int]]:
     """The console script with a pseudo-terminal as its stdin (and stdout, unless ``stdout_too``
-    is false: then a pipe), stderr a pipe, started as a shell starts a command, ``ignored`` ignored
-    (:func:`as_a_shell_starts_a_command`). Yields the process and the terminal's master end; on
-    leaving, a child still running is killed and the terminal closed."""
+    is false: then a pipe), stderr a pipe, started ignoring the signals ``ignored``. Yields the
+    process and the terminal's master end; on leaving, a child still running is killed and the
+    terminal closed."""
     master, slave = pty.openpty()
-    with as_a_shell_starts_a_command(ignored):
+    with ignoring(ignored):
         process = subprocess.Popen(
             [str(SCRIPT), *argv],
             stdin=slave,
