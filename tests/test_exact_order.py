@@ -34,3 +34,59 @@ def test_a_subset_is_ordered_as_the_whole_order_leaves_it(seed: int, on_grid: bo
     wanted = whole[np.isin(whole, idx)]
     got = exact_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0])
     assert got.tolist() == wanted.tolist()
+
+
+def _pile(seed: int) -> tuple[np.ndarray, ...]:
+    """Up to 40 balls of radius 0.1 sunk a little into a floor (most touch only it), some in
+    overlapping clusters, and every contact among them and with the floor: ``(pos, ext, ima,
+    ca, cb, cd)``."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(2, 40))
+    pos = np.zeros((n, 3))
+    pos[:, 0] = rng.uniform(0, 10, n)
+    pos[:, 2] = rng.uniform(0, 10, n)
+    pos[:, 1] = 0.1 - rng.uniform(0, 1e-3, n)
+    lifted = rng.random(n) < 0.3  # on top of the ball before it, overlapping it a little
+    for i in np.flatnonzero(lifted[1:]) + 1:
+        pos[i] = pos[i - 1] + rng.normal(size=3) * 0.01 + np.array([0.0, 0.199, 0.0])
+    ext = np.full((n, 3), 0.1)
+    ima = rng.uniform(0.5, 2.0, n)
+    ca, cb, cd = [], [], []
+    for i in range(n):
+        if pos[i, 1] - 0.1 < 1e-3:
+            ca.append(-1)
+            cb.append(i)
+            cd.append(0.1 - pos[i, 1])
+        for j in range(i + 1, n):
+            depth = 0.2 - float(np.linalg.norm(pos[i] - pos[j]))
+            if depth > -1e-3:
+                ca.append(i)
+                cb.append(j)
+                cd.append(depth)
+    return pos, ext, ima, np.array(ca), np.array(cb), np.array(cd)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_a_contact_alone_on_its_bodies_may_come_anywhere_in_a_push_apart_sweep(seed: int) -> None:
+    # The exact stepper sweeps the contacts that share a body in the whole order and the others
+    # after them; push-apart (passes until nothing moves) must end with the same positions, to
+    # the bit, as the Forward Euler stepper's order of all of them gives.
+    pos, ext, ima, ca, cb, cd = _pile(seed)
+    count = cd.shape[0]
+    kind = np.full(pos.shape[0], step_kernels.BALL_3D, np.int64)
+    floor = (np.array([step_kernels.STATIC_WALL]), np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]))
+    whole = step_kernels._order_contacts(pos, ca, cb, cd, count)
+    coupled = exact_kernels._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
+    assert sorted(coupled.tolist()) == list(range(count))
+    ends, ledgers = [], []
+    for order in (whole, coupled):
+        moved, ledger = pos.copy(), np.zeros(8)
+        for _ in range(50):
+            if not step_kernels._push_apart(kind, moved, ext, ima, *floor, ca, cb, cd, order, np.array([0, -9.81, 0]),
+                                            1e-9, 1e-3, ledger):  # fmt: skip
+                break
+        ends.append(moved)
+        ledgers.append(ledger)
+    assert np.array_equal(ends[0], ends[1])
+    assert not np.array_equal(ends[0], pos)  # something was pushed
+    assert ledgers[1] == pytest.approx(ledgers[0], rel=1e-12, abs=1e-15)
