@@ -662,171 +662,6 @@ def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> N
     nsup[i] = 0
 
 
-#: Columns of a contact's tie-break key (:func:`_tie_key`): its group, then six coordinates.
-TIE_KEY_SIZE = 7
-
-
-def _tie_key(pos: Any, ca: Any, cb: Any, c: int, keys: Any, row: int) -> None:
-    """Write into ``keys[row]`` what :func:`~collisionlab.engine.step_kernels._contact_cmp`
-    compares for contact ``c``, so that a sort compares rows of numbers instead of reading and
-    ordering positions at every comparison: 0 and the lower then the higher of its two bodies'
-    positions for a body pair, 1, the body's position and minus the static's code for a static
-    contact (the larger code, the lower number, comes first). Rows compare lexicographically as
-    ``_contact_cmp`` compares the contacts."""
-    a = ca[c]
-    b = cb[c]
-    if a < 0:
-        keys[row, 0] = 1.0
-        for k in range(3):
-            keys[row, 1 + k] = pos[b, k]
-        keys[row, 4] = float(-a)
-        keys[row, 5] = 0.0
-        keys[row, 6] = 0.0
-        return
-    low = a
-    high = b
-    if sk._lex3(pos[a, 0], pos[a, 1], pos[a, 2], pos[b, 0], pos[b, 1], pos[b, 2]) > 0:
-        low = b
-        high = a
-    keys[row, 0] = 0.0
-    for k in range(3):
-        keys[row, 1 + k] = pos[low, k]
-        keys[row, 4 + k] = pos[high, k]
-
-
-def _key_before(keys: Any, order: Any, p: int, q: int) -> bool:
-    """Whether the contact at ``order[p]`` comes before the one at ``order[q]`` (their rows of
-    ``keys`` are rows ``p`` and ``q``): by the rows, then by number (as a stable sort of the
-    depths leaves a tie)."""
-    for k in range(TIE_KEY_SIZE):
-        if keys[p, k] != keys[q, k]:
-            return bool(keys[p, k] < keys[q, k])
-    return bool(order[p] < order[q])
-
-
-def _keyed_insertion_sort(keys: Any, order: Any, s: int, t: int, row: Any) -> None:
-    """Sort ``order[s:t]`` and its rows of ``keys`` by :func:`_key_before` (``row``: room for
-    one row)."""
-    for u in range(s + 1, t):
-        v = u
-        while v > s and _key_before(keys, order, v, v - 1):
-            c = order[v]
-            order[v] = order[v - 1]
-            order[v - 1] = c
-            for k in range(TIE_KEY_SIZE):
-                row[k] = keys[v, k]
-                keys[v, k] = keys[v - 1, k]
-                keys[v - 1, k] = row[k]
-            v -= 1
-
-
-def _keyed_run_sort(keys: Any, order: Any, s: int, t: int, spare: Any, spare_keys: Any, row: Any) -> None:
-    """Sort a long run ``order[s:t]`` by :func:`_key_before`: by the first two columns (group,
-    then first coordinate) with one ``argsort``, then the runs equal in both by insertion."""
-    m = t - s
-    first = np.empty(m)
-    for u in range(m):
-        first[u] = keys[s + u, 1]
-    rank = np.argsort(first)  # then body pairs (group 0) before static contacts, each in rank order
-    k = 0
-    for group in range(2):
-        for u in range(m):
-            if keys[s + rank[u], 0] == group:
-                spare[k] = order[s + rank[u]]
-                for col in range(TIE_KEY_SIZE):
-                    spare_keys[k, col] = keys[s + rank[u], col]
-                k += 1
-    for u in range(m):
-        order[s + u] = spare[u]
-        for col in range(TIE_KEY_SIZE):
-            keys[s + u, col] = spare_keys[u, col]
-    v = s
-    while v < t:
-        w = v + 1
-        while w < t and keys[w, 0] == keys[v, 0] and keys[w, 1] == keys[v, 1]:
-            w += 1
-        if w - v > 1:
-            _keyed_insertion_sort(keys, order, v, w, row)
-        v = w
-
-
-def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
-    """The contacts ``idx[:m]`` (in increasing number) in the order
-    :func:`~collisionlab.engine.step_kernels._order_contacts` gives all of them: deepest first,
-    runs of equal depth by geometry, then by number; a sort of these alone, so the others cost
-    nothing. The order is total, so any sort gives it: the depths by an unstable ``argsort``,
-    then each run of equal depth by the numbers :func:`_tie_key` writes for it once (resting
-    contacts make hundreds of short runs, and comparing positions again at every step of their
-    sorts cost more than the ``argsort``)."""
-    sub = idx[:m]
-    depth = np.empty(m)
-    for u in range(m):
-        depth[u] = -cd[sub[u]]
-    order = sub[np.argsort(depth)]
-    keys = np.empty((m, TIE_KEY_SIZE))
-    spare = np.empty(m, np.int64)
-    spare_keys = np.empty((m, TIE_KEY_SIZE))
-    row = np.empty(TIE_KEY_SIZE)
-    s = 0
-    while s < m:
-        t = s + 1
-        while t < m and cd[order[t]] == cd[order[s]]:
-            t += 1
-        if t - s > 1:
-            for u in range(s, t):
-                _tie_key(pos, ca, cb, order[u], keys, u)
-            if t - s > sk._SHORT_RUN:
-                _keyed_run_sort(keys, order, s, t, spare, spare_keys, row)
-            else:
-                _keyed_insertion_sort(keys, order, s, t, row)
-        s = t
-    return order
-
-
-def _order_coupled(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int, degree: Any) -> Any:
-    """The contacts ``idx[:m]`` in the order a sweep through them (the resting passes,
-    push-apart) takes: those that share a body with another of them in :func:`_order_subset`'s
-    order, then those alone on their bodies, in increasing number. A sweep reads and writes only
-    a contact's two bodies (a static never changes), so where a contact alone on its bodies comes
-    in the sweep changes nothing it computes (sums into the ledger aside, to rounding); among
-    the others, each group sharing bodies meets in the order of the whole. On a slope where most
-    bodies touch only the floor this sorts a few contacts instead of all of them. ``degree``:
-    one zero per body, left zero.
-
-    >>> pos = np.array([[0.0, 0, 0], [1.0, 0, 0], [5.0, 0, 0]])
-    >>> ca, cb = np.array([-1, -1, 0, -1]), np.array([0, 1, 1, 2])
-    >>> cd = np.array([1e-9, 2e-9, 0.0, 3e-9])  # the deepest, floor-2, is alone on body 2
-    >>> _order_coupled(pos, ca, cb, cd, np.arange(4), 4, np.zeros(3, np.int64)).tolist()
-    [1, 0, 2, 3]
-    """
-    for u in range(m):
-        c = idx[u]
-        if ca[c] >= 0:
-            degree[ca[c]] += 1
-        degree[cb[c]] += 1
-    shared = np.empty(m, np.int64)
-    order = np.empty(m, np.int64)
-    k = 0
-    alone = m
-    for u in range(m - 1, -1, -1):  # from the end, so those alone keep their increasing numbers
-        c = idx[u]
-        if degree[cb[c]] > 1 or (ca[c] >= 0 and degree[ca[c]] > 1):
-            shared[k] = c
-            k += 1
-        else:
-            alone -= 1
-            order[alone] = c
-    for u in range(m):
-        c = idx[u]
-        if ca[c] >= 0:
-            degree[ca[c]] = 0
-        degree[cb[c]] = 0
-    first = _order_subset(pos, ca, cb, cd, shared, k)  # a total order: any input order gives it
-    for u in range(k):
-        order[u] = first[u]
-    return order
-
-
 # --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
 def _heap_push(ht: Any, hk: Any, hv: Any, size: int, t: float, k: int, v: int) -> int:
     i = size
@@ -1074,7 +909,7 @@ def run_exact_steps(
                             near_idx[n_near] = c
                             n_near += 1
                             seen[c] = 0
-                    order = _order_coupled(pos, ca, cb, cd, near_idx, n_near, degree)
+                    order = sk._order_coupled(pos, ca, cb, cd, near_idx, n_near, degree)
                     for i in range(n):
                         changed_at[i] = 0
                     stamp = 0
@@ -1559,7 +1394,7 @@ def run_exact_steps(
         # overlap): with none, its first pass would move nothing, so neither it nor its order
         # is needed.
         if overlap:
-            order = _order_coupled(pos, ca, cb, cd, near_idx, n_push, degree)
+            order = sk._order_coupled(pos, ca, cb, cd, near_idx, n_push, degree)
             found = push_clock  # every earlier tick is below it
             for p in range(passes):
                 moves = sk._push_sweep(

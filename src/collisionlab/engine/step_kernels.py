@@ -18,7 +18,10 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    contact's normal is kept: positions do not change until push-apart.
 4. **Order**: contacts deepest first; ties broken by geometry (the positions of the two bodies,
    lexicographically, lower first), never by storage, so permuting the bodies permutes the
-   result exactly; body pairs before static contacts, statics by their number.
+   result exactly; body pairs before static contacts, statics by their number. Only the
+   contacts that share a body with another are sorted: a contact alone on its bodies (a ball
+   touching only the floor) changes nothing in a sweep wherever it comes, so those come after
+   the others, and each pass's events are then put back in the order of all of them.
 5. **Impulses**, contact after contact in that order, each from the current velocities
    (sequential impulses): ``v_n = (v_b - v_a) . n``; nothing if ``v_n >= 0``; else
    ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, ``v_a -= (j/m_a) n``,
@@ -997,6 +1000,193 @@ def _order_contacts(pos: Any, ca: Any, cb: Any, cd: Any, count: int) -> Any:
     return order
 
 
+#: Columns of a contact's tie-break key (:func:`_tie_key`): its group, then six coordinates.
+TIE_KEY_SIZE = 7
+
+
+def _tie_key(pos: Any, ca: Any, cb: Any, c: int, keys: Any, row: int) -> None:
+    """Write into ``keys[row]`` what :func:`_contact_cmp`
+    compares for contact ``c``, so that a sort compares rows of numbers instead of reading and
+    ordering positions at every comparison: 0 and the lower then the higher of its two bodies'
+    positions for a body pair, 1, the body's position and minus the static's code for a static
+    contact (the larger code, the lower number, comes first). Rows compare lexicographically as
+    ``_contact_cmp`` compares the contacts."""
+    a = ca[c]
+    b = cb[c]
+    if a < 0:
+        keys[row, 0] = 1.0
+        for k in range(3):
+            keys[row, 1 + k] = pos[b, k]
+        keys[row, 4] = float(-a)
+        keys[row, 5] = 0.0
+        keys[row, 6] = 0.0
+        return
+    low = a
+    high = b
+    if _lex3(pos[a, 0], pos[a, 1], pos[a, 2], pos[b, 0], pos[b, 1], pos[b, 2]) > 0:
+        low = b
+        high = a
+    keys[row, 0] = 0.0
+    for k in range(3):
+        keys[row, 1 + k] = pos[low, k]
+        keys[row, 4 + k] = pos[high, k]
+
+
+def _key_before(keys: Any, order: Any, p: int, q: int) -> bool:
+    """Whether the contact at ``order[p]`` comes before the one at ``order[q]`` (their rows of
+    ``keys`` are rows ``p`` and ``q``): by the rows, then by number (as a stable sort of the
+    depths leaves a tie)."""
+    for k in range(TIE_KEY_SIZE):
+        if keys[p, k] != keys[q, k]:
+            return bool(keys[p, k] < keys[q, k])
+    return bool(order[p] < order[q])
+
+
+def _keyed_insertion_sort(keys: Any, order: Any, s: int, t: int, row: Any) -> None:
+    """Sort ``order[s:t]`` and its rows of ``keys`` by :func:`_key_before` (``row``: room for
+    one row)."""
+    for u in range(s + 1, t):
+        v = u
+        while v > s and _key_before(keys, order, v, v - 1):
+            c = order[v]
+            order[v] = order[v - 1]
+            order[v - 1] = c
+            for k in range(TIE_KEY_SIZE):
+                row[k] = keys[v, k]
+                keys[v, k] = keys[v - 1, k]
+                keys[v - 1, k] = row[k]
+            v -= 1
+
+
+def _keyed_run_sort(keys: Any, order: Any, s: int, t: int, spare: Any, spare_keys: Any, row: Any) -> None:
+    """Sort a long run ``order[s:t]`` by :func:`_key_before`: by the first two columns (group,
+    then first coordinate) with one ``argsort``, then the runs equal in both by insertion."""
+    m = t - s
+    first = np.empty(m)
+    for u in range(m):
+        first[u] = keys[s + u, 1]
+    rank = np.argsort(first)  # then body pairs (group 0) before static contacts, each in rank order
+    k = 0
+    for group in range(2):
+        for u in range(m):
+            if keys[s + rank[u], 0] == group:
+                spare[k] = order[s + rank[u]]
+                for col in range(TIE_KEY_SIZE):
+                    spare_keys[k, col] = keys[s + rank[u], col]
+                k += 1
+    for u in range(m):
+        order[s + u] = spare[u]
+        for col in range(TIE_KEY_SIZE):
+            keys[s + u, col] = spare_keys[u, col]
+    v = s
+    while v < t:
+        w = v + 1
+        while w < t and keys[w, 0] == keys[v, 0] and keys[w, 1] == keys[v, 1]:
+            w += 1
+        if w - v > 1:
+            _keyed_insertion_sort(keys, order, v, w, row)
+        v = w
+
+
+def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
+    """The contacts ``idx[:m]`` (in increasing number) in the order
+    :func:`_order_contacts` gives all of them: deepest first,
+    runs of equal depth by geometry, then by number; a sort of these alone, so the others cost
+    nothing. The order is total, so any sort gives it: the depths by an unstable ``argsort``,
+    then each run of equal depth by the numbers :func:`_tie_key` writes for it once (resting
+    contacts make hundreds of short runs, and comparing positions again at every step of their
+    sorts cost more than the ``argsort``)."""
+    sub = idx[:m]
+    depth = np.empty(m)
+    for u in range(m):
+        depth[u] = -cd[sub[u]]
+    order = sub[np.argsort(depth)]
+    keys = np.empty((m, TIE_KEY_SIZE))
+    spare = np.empty(m, np.int64)
+    spare_keys = np.empty((m, TIE_KEY_SIZE))
+    row = np.empty(TIE_KEY_SIZE)
+    s = 0
+    while s < m:
+        t = s + 1
+        while t < m and cd[order[t]] == cd[order[s]]:
+            t += 1
+        if t - s > 1:
+            for u in range(s, t):
+                _tie_key(pos, ca, cb, order[u], keys, u)
+            if t - s > _SHORT_RUN:
+                _keyed_run_sort(keys, order, s, t, spare, spare_keys, row)
+            else:
+                _keyed_insertion_sort(keys, order, s, t, row)
+        s = t
+    return order
+
+
+def _order_coupled(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int, degree: Any) -> Any:
+    """The contacts ``idx[:m]`` in the order a sweep through them (the resting passes,
+    push-apart) takes: those that share a body with another of them in :func:`_order_subset`'s
+    order, then those alone on their bodies, in increasing number. A sweep reads and writes only
+    a contact's two bodies (a static never changes), so where a contact alone on its bodies comes
+    in the sweep changes nothing it computes (sums into the ledger aside, to rounding); among
+    the others, each group sharing bodies meets in the order of the whole. On a slope where most
+    bodies touch only the floor this sorts a few contacts instead of all of them. ``degree``:
+    one zero per body, left zero.
+
+    >>> pos = np.array([[0.0, 0, 0], [1.0, 0, 0], [5.0, 0, 0]])
+    >>> ca, cb = np.array([-1, -1, 0, -1]), np.array([0, 1, 1, 2])
+    >>> cd = np.array([1e-9, 2e-9, 0.0, 3e-9])  # the deepest, floor-2, is alone on body 2
+    >>> _order_coupled(pos, ca, cb, cd, np.arange(4), 4, np.zeros(3, np.int64)).tolist()
+    [1, 0, 2, 3]
+    """
+    for u in range(m):
+        c = idx[u]
+        if ca[c] >= 0:
+            degree[ca[c]] += 1
+        degree[cb[c]] += 1
+    shared = np.empty(m, np.int64)
+    order = np.empty(m, np.int64)
+    k = 0
+    alone = m
+    for u in range(m - 1, -1, -1):  # from the end, so those alone keep their increasing numbers
+        c = idx[u]
+        if degree[cb[c]] > 1 or (ca[c] >= 0 and degree[ca[c]] > 1):
+            shared[k] = c
+            k += 1
+        else:
+            alone -= 1
+            order[alone] = c
+    for u in range(m):
+        c = idx[u]
+        if ca[c] >= 0:
+            degree[ca[c]] = 0
+        degree[cb[c]] = 0
+    first = _order_subset(pos, ca, cb, cd, shared, k)  # a total order: any input order gives it
+    for u in range(k):
+        order[u] = first[u]
+    return order
+
+
+def _events_in_order(
+    events: Any, first: int, end: int, event_of: Any, order: Any, pos: Any, ca: Any, cb: Any, cd: Any
+) -> None:
+    """Put event rows ``first:end`` of one pass of :func:`_impulses` (row ``first + k`` from
+    contact ``order[event_of[k]]``) in the order of their contacts in :func:`_order_contacts`:
+    the order they would have been resolved in had every contact been sorted."""
+    m = end - first
+    if m < 2:
+        return
+    of = np.empty(m, np.int64)
+    for k in range(m):
+        of[k] = order[event_of[k]]
+    wanted = _order_subset(pos, ca, cb, cd, of, m)
+    by_contact = np.argsort(of)
+    rows = events[first:end].copy()
+    sorted_of = of[by_contact]
+    for q in range(m):
+        k = by_contact[np.searchsorted(sorted_of, wanted[q])]
+        for col in range(events.shape[1]):
+            events[first + q, col] = rows[k, col]
+
+
 # --- touching memory ----------------------------------------------------------------------------
 def _key_of(ka: int, kb: int, n: int) -> int:
     """The key of the pair of ids (or ``n + s`` for static ``s``) ``ka`` and ``kb``."""
@@ -1124,12 +1314,13 @@ def _impulses(
     record: bool,
     events: Any,
     event_count: Any,
+    event_of: Any,
     ledger: Any,
 ) -> Any:
     """One pass of impulses over the contacts, stored in the order they are resolved, each along
     its normal ``cn`` (found with the contacts: positions do not change while impulses are
     applied); returns the event buffer (grown if it had to be). ``event_count[1]`` counts the
-    impulses this pass applied.
+    impulses this pass applied; ``event_of[k]`` gets the contact of the pass's k-th event.
 
     After the first pass a contact is looked at again only if the velocity of one of its bodies
     changed since it was last looked at: ``changed[body]`` is the tick of the body's last impulse,
@@ -1138,6 +1329,7 @@ def _impulses(
     one, which applied nothing (an impulse changes the pair's own velocities), so skipping it
     changes no number."""
     before = np.zeros(6)
+    first_event = event_count[0]
     for c in range(cd.shape[0]):
         b = cb[c]
         if not first_pass and changed[b] < seen[c]:
@@ -1172,6 +1364,7 @@ def _impulses(
                 events = _write_event(
                     events, event_count[0], code, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
                 )
+                event_of[event_count[0] - first_event] = c
                 event_count[0] += 1
             continue
         e_pair = _pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
@@ -1245,6 +1438,7 @@ def _impulses(
                     a,
                     b,
                 )
+                event_of[event_count[0] - first_event] = c
                 event_count[0] += 1
     return events
 
@@ -1527,6 +1721,8 @@ def run_steps(
     changed = np.full(n, -1, np.int64)
     moved = np.full(n, -1, np.int64)
     clock = 0
+    degree = np.zeros(n, np.int64)  # _order_coupled's count of contacts per body
+    every = np.arange(ca.shape[0])  # every contact's number
     for step in range(first_step, first_step + steps):
         time = (step + 1) * dt  # the time at the end of this step, when its contacts are resolved
         _integrate(pos, vel, ima, gravity, dt, ledger)
@@ -1548,7 +1744,11 @@ def run_steps(
             cb = np.zeros(2 * count, np.int64)
             cd = np.zeros(2 * count)
             cn = np.zeros((2 * count, 3))
-        order = _order_contacts(pos, ca, cb, cd, count)
+        # Only the contacts sharing a body with another need the order (_order_coupled); the
+        # events are put back in the order of all of them after each pass (_events_in_order).
+        if every.shape[0] < count:
+            every = np.arange(2 * count)
+        order = _order_coupled(pos, ca, cb, cd, every, count, degree)
         # The contacts in that order, so that the sweeps read them in sequence.
         oa = ca[order]
         ob = cb[order]
@@ -1559,8 +1759,10 @@ def run_steps(
             table = np.zeros(2 * table.shape[0], np.int64)
         _mark_touching(touch_keys, touch_count[0], table, oa, ob, ids, n, count, touching)
         seen = np.full(count, _NEVER, np.int64)
+        event_of = np.empty(count, np.int64)
         for p in range(passes):
             event_count[1] = 0
+            first_event = event_count[0]
             events = _impulses(
                 kind,
                 pos,
@@ -1592,8 +1794,10 @@ def run_steps(
                 record,
                 events,
                 event_count,
+                event_of,
                 ledger,
             )
+            _events_in_order(events, first_event, event_count[0], event_of, order, pos, ca, cb, cd)
             clock += count
             if event_count[1] == 0:
                 break

@@ -1,13 +1,13 @@
-"""The exact stepper orders a subset of the contacts (those in contact, those push-apart looks
-at) as the Forward Euler stepper's order of all of them would: deepest first, ties by geometry,
-then by number. Many ties, as resting contacts make, short runs and long ones."""
+"""The order of the contacts (step_kernels): deepest first, ties by geometry, then by number. A
+subset of them is ordered as the order of all of them leaves it (many ties, as resting contacts
+make, short runs and long ones); a sweep may take the contacts alone on their bodies anywhere."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from collisionlab.engine import exact_kernels, step_kernels
+from collisionlab.engine import step_kernels
 
 
 def _contacts(seed: int, on_grid: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -32,7 +32,7 @@ def test_a_subset_is_ordered_as_the_whole_order_leaves_it(seed: int, on_grid: bo
     rng = np.random.default_rng(1000 + seed)
     idx = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))
     wanted = whole[np.isin(whole, idx)]
-    got = exact_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0])
+    got = step_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0])
     assert got.tolist() == wanted.tolist()
 
 
@@ -76,7 +76,7 @@ def test_a_contact_alone_on_its_bodies_may_come_anywhere_in_a_push_apart_sweep(s
     kind = np.full(pos.shape[0], step_kernels.BALL_3D, np.int64)
     floor = (np.array([step_kernels.STATIC_WALL]), np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]))
     whole = step_kernels._order_contacts(pos, ca, cb, cd, count)
-    coupled = exact_kernels._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
+    coupled = step_kernels._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
     assert sorted(coupled.tolist()) == list(range(count))
     ends, ledgers = [], []
     for order in (whole, coupled):
@@ -90,3 +90,26 @@ def test_a_contact_alone_on_its_bodies_may_come_anywhere_in_a_push_apart_sweep(s
     assert np.array_equal(ends[0], ends[1])
     assert not np.array_equal(ends[0], pos)  # something was pushed
     assert ledgers[1] == pytest.approx(ledgers[0], rel=1e-12, abs=1e-15)
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_the_events_of_a_pass_are_put_in_the_order_of_all_the_contacts(seed: int) -> None:
+    # A pass resolves the contacts in _order_coupled's order and writes an event for some of
+    # them; afterwards they must read as if every contact had been sorted (_order_contacts).
+    if seed % 2:  # most contacts alone on their bodies (balls on a floor)
+        pos, _, _, ca, cb, cd = _pile(seed)
+    else:  # most sharing them, many ties
+        pos, ca, cb, cd = _contacts(seed, seed % 4 == 0)
+    count = cd.shape[0]
+    order = step_kernels._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
+    rng = np.random.default_rng(2000 + seed)
+    resolved = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))  # positions in order
+    events = np.zeros((len(resolved) + 3, 4))
+    events[:3, 0] = -1.0  # rows of an earlier pass stay
+    events[3:, 0] = order[resolved]  # each row names its contact
+    events[3:, 1] = np.arange(len(resolved))
+    step_kernels._events_in_order(events, 3, len(events), resolved, order, pos, ca, cb, cd)
+    whole = step_kernels._order_contacts(pos, ca, cb, cd, count)
+    assert events[3:, 0].astype(int).tolist() == [c for c in whole if c in set(order[resolved])]
+    assert events[:3, 0].tolist() == [-1.0] * 3
+    assert sorted(events[3:, 1].tolist()) == list(range(len(resolved)))  # whole rows moved
