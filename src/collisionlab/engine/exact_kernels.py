@@ -440,6 +440,8 @@ def _curvature(kind: Any, ext: Any, s_kind: Any, a: int, b: int, nx: float, ny: 
     """Radius of curvature of the surface pair ``(a, b)`` slides on (the Minkowski sum of the two
     shapes): ``r_a + r_b`` for two balls, the ball's radius on a box's edge or corner (a normal off
     the axes), ``inf`` when flat (a line, a plane, a wall, a box face, two boxes)."""
+    if a < 0 and s_kind[-1 - a] != sk.STATIC_BOX:
+        return math.inf  # a line, plane or wall: the commonest support, decided first
     ball_a = a >= 0 and kind[a] <= sk.BALL_3D
     ball_b = kind[b] <= sk.BALL_3D
     if ball_a and ball_b:
@@ -473,6 +475,8 @@ def _support_expiry(
 
     (a ball of radius 0.5 on a box sliding past it at 0.1 m/s: ``sqrt(0.5 * 2e-7) / 0.1`` s.)
     """
+    if a < 0 and s_kind[-1 - a] != sk.STATIC_BOX:
+        return math.inf  # a line, plane or wall: the commonest support, decided first
     ball_a = a >= 0 and kind[a] <= sk.BALL_3D
     ball_b = kind[b] <= sk.BALL_3D
     box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == sk.STATIC_BOX)
