@@ -34,6 +34,8 @@ def test_a_subset_is_ordered_as_the_whole_order_leaves_it(seed: int, on_grid: bo
     wanted = whole[np.isin(whole, idx)]
     got = step_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0])
     assert got.tolist() == wanted.tolist()
+    rng.shuffle(idx)  # given in any order: the same
+    assert step_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0]).tolist() == wanted.tolist()
 
 
 def _pile(seed: int) -> tuple[np.ndarray, ...]:

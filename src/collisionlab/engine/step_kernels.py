@@ -1005,12 +1005,11 @@ TIE_KEY_SIZE = 7
 
 
 def _tie_key(pos: Any, ca: Any, cb: Any, c: int, keys: Any, row: int) -> None:
-    """Write into ``keys[row]`` what :func:`_contact_cmp`
-    compares for contact ``c``, so that a sort compares rows of numbers instead of reading and
-    ordering positions at every comparison: 0 and the lower then the higher of its two bodies'
-    positions for a body pair, 1, the body's position and minus the static's code for a static
-    contact (the larger code, the lower number, comes first). Rows compare lexicographically as
-    ``_contact_cmp`` compares the contacts."""
+    """Write into ``keys[row]`` what :func:`_contact_cmp` compares for contact ``c``, so that a
+    sort compares rows of numbers instead of reading and ordering positions at every comparison:
+    0 and the lower then the higher of its two bodies' positions for a body pair, 1, the body's
+    position and minus the static's code for a static contact (the larger code, the lower number,
+    comes first). Rows compare lexicographically as ``_contact_cmp`` compares the contacts."""
     a = ca[c]
     b = cb[c]
     if a < 0:
@@ -1089,13 +1088,12 @@ def _keyed_run_sort(keys: Any, order: Any, s: int, t: int, spare: Any, spare_key
 
 
 def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
-    """The contacts ``idx[:m]`` (in increasing number) in the order
-    :func:`_order_contacts` gives all of them: deepest first,
-    runs of equal depth by geometry, then by number; a sort of these alone, so the others cost
-    nothing. The order is total, so any sort gives it: the depths by an unstable ``argsort``,
-    then each run of equal depth by the numbers :func:`_tie_key` writes for it once (resting
-    contacts make hundreds of short runs, and comparing positions again at every step of their
-    sorts cost more than the ``argsort``)."""
+    """The contacts ``idx[:m]`` (in any order) in the order :func:`_order_contacts` gives all of
+    them: deepest first, runs of equal depth by geometry, then by number; a sort of these alone,
+    so the others cost nothing. The order is total, so any sort gives it: the depths by an
+    unstable ``argsort``, then each run of equal depth by the numbers :func:`_tie_key` writes for
+    it once (resting contacts make hundreds of short runs, and comparing positions again at every
+    step of their sorts cost more than the ``argsort``)."""
     sub = idx[:m]
     depth = np.empty(m)
     for u in range(m):
@@ -1122,7 +1120,7 @@ def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
 
 
 def _order_coupled(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int, degree: Any) -> Any:
-    """The contacts ``idx[:m]`` in the order a sweep through them (the resting passes,
+    """The contacts ``idx[:m]`` in the order a sweep through them (impulses, the resting passes,
     push-apart) takes: those that share a body with another of them in :func:`_order_subset`'s
     order, then those alone on their bodies, in increasing number. A sweep reads and writes only
     a contact's two bodies (a static never changes), so where a contact alone on its bodies comes
