@@ -96,6 +96,7 @@ INLINE = (
     "_rounding_speed",
     "_ball_ball_root",
     "_advance",
+    "_flight_work",
     "_time_of_impact",
     "_kick",
     "_curvature",
@@ -167,24 +168,49 @@ def _ball_ball_root(
     return t if 0.0 < t <= limit else math.inf  # 0: touching already, which the caller handles
 
 
+def _flight_work(
+    vx: float, vy: float, vz: float, ax: float, ay: float, az: float, gravity: Any, d: float, ima_i: float
+) -> float:
+    """The energy a flight of ``d`` at acceleration ``a`` changes (kinetic plus ``-m g.x``: zero in
+    free flight, the work of a support otherwise): ``m [v.(a - g) d + (a.a - g.a) d^2 / 2]``."""
+    va = vx * (ax - gravity[0]) + vy * (ay - gravity[1]) + vz * (az - gravity[2])
+    aa = ax * (ax - gravity[0]) + ay * (ay - gravity[1]) + az * (az - gravity[2])
+    return float((va * d + 0.5 * aa * d * d) / ima_i)
+
+
 def _advance(i: int, t: float, pos: Any, vel: Any, acc: Any, tau: Any, ima: Any, gravity: Any, ledger: Any) -> None:
-    """Bring body ``i`` from its own time ``tau[i]`` to ``t`` exactly. The energy the flight
-    changes (kinetic plus ``-m g.x``: zero in free flight, the work of a support otherwise) goes to
-    ``ledger[0]``: ``m [v.(a - g) d + (a.a - g.a) d^2 / 2]``."""
+    """Bring body ``i`` from its own time ``tau[i]`` to ``t`` exactly:
+    ``x += v d + a d^2 / 2``, ``v += a d``; the energy the flight changes goes to ``ledger[0]``
+    (:func:`_flight_work`)."""
     d = t - tau[i]
     if d <= 0.0:
         return
     if ima[i] > 0.0:
-        va = 0.0
-        aa = 0.0
-        for k in range(3):
-            va += vel[i, k] * (acc[i, k] - gravity[k])
-            aa += acc[i, k] * (acc[i, k] - gravity[k])
-        ledger[0] += (va * d + 0.5 * aa * d * d) / ima[i]
+        ledger[0] += _flight_work(vel[i, 0], vel[i, 1], vel[i, 2], acc[i, 0], acc[i, 1], acc[i, 2], gravity, d, ima[i])
     for k in range(3):
         pos[i, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
         vel[i, k] = vel[i, k] + acc[i, k] * d
     tau[i] = t
+
+
+def _advance_all(t: float, pos: Any, vel: Any, acc: Any, tau: Any, ima: Any, gravity: Any, ledger: Any) -> None:
+    """:func:`_advance` for every body, in order. Its own function, not inlined: an inlined helper
+    that takes arrays costs reference counts taken and given back at every call (numba does not
+    prune them in a loop), several times the flight itself, so the loop reads the arrays here."""
+    energy = ledger[0]  # summed in the same order as body after body would
+    for i in range(pos.shape[0]):
+        d = t - tau[i]
+        if d <= 0.0:
+            continue
+        if ima[i] > 0.0:
+            energy += _flight_work(
+                vel[i, 0], vel[i, 1], vel[i, 2], acc[i, 0], acc[i, 1], acc[i, 2], gravity, d, ima[i]
+            )  # fmt: skip
+        for k in range(3):
+            pos[i, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
+            vel[i, k] = vel[i, k] + acc[i, k] * d
+        tau[i] = t
+    ledger[0] = energy
 
 
 def _separation_at(
@@ -1334,8 +1360,7 @@ def run_exact_steps(
                 if restart:
                     for q in range(n_look):
                         is_kicked[kicked[q]] = 0
-                    for i in range(n):
-                        _advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
+                    _advance_all(when, pos, vel, acc, tau, ima, gravity, ledger)
                     near = np.zeros(count, np.int8)
                     for c2 in range(count):
                         sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
@@ -1372,8 +1397,7 @@ def run_exact_steps(
             if not restart:
                 break
         # Phase 5: the end of the step.
-        for i in range(n):
-            _advance(i, dt, pos, vel, acc, tau, ima, gravity, ledger)
+        _advance_all(dt, pos, vel, acc, tau, ima, gravity, ledger)
         if near_idx.shape[0] < count:
             near_idx = np.zeros(2 * count, np.int64)
             seen = np.zeros(2 * count, np.int64)
