@@ -96,6 +96,7 @@ INLINE = (
     "_rounding_speed",
     "_ball_ball_root",
     "_advance",
+    "_flown",
     "_flight_work",
     "_time_of_impact",
     "_kick",
@@ -168,6 +169,16 @@ def _ball_ball_root(
     return t if 0.0 < t <= limit else math.inf  # 0: touching already, which the caller handles
 
 
+def _flown(x: float, v: float, a: float, d: float) -> Any:
+    """One coordinate's position and velocity after a flight of ``d`` at acceleration ``a``:
+    ``(x + v d + a d^2 / 2, v + a d)``.
+
+    >>> _flown(1.0, 2.0, -10.0, 0.5)
+    (0.75, -3.0)
+    """
+    return x + v * d + 0.5 * a * d * d, v + a * d
+
+
 def _flight_work(
     vx: float, vy: float, vz: float, ax: float, ay: float, az: float, gravity: Any, d: float, ima_i: float
 ) -> float:
@@ -188,8 +199,7 @@ def _advance(i: int, t: float, pos: Any, vel: Any, acc: Any, tau: Any, ima: Any,
     if ima[i] > 0.0:
         ledger[0] += _flight_work(vel[i, 0], vel[i, 1], vel[i, 2], acc[i, 0], acc[i, 1], acc[i, 2], gravity, d, ima[i])
     for k in range(3):
-        pos[i, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
-        vel[i, k] = vel[i, k] + acc[i, k] * d
+        pos[i, k], vel[i, k] = _flown(pos[i, k], vel[i, k], acc[i, k], d)
     tau[i] = t
 
 
@@ -207,8 +217,7 @@ def _advance_all(t: float, pos: Any, vel: Any, acc: Any, tau: Any, ima: Any, gra
                 vel[i, 0], vel[i, 1], vel[i, 2], acc[i, 0], acc[i, 1], acc[i, 2], gravity, d, ima[i]
             )  # fmt: skip
         for k in range(3):
-            pos[i, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
-            vel[i, k] = vel[i, k] + acc[i, k] * d
+            pos[i, k], vel[i, k] = _flown(pos[i, k], vel[i, k], acc[i, k], d)
         tau[i] = t
     ledger[0] = energy
 
@@ -246,8 +255,7 @@ def _separation_at(
         d = t - tau[i]
         k2[r] = kind[i]
         for k in range(3):
-            p2[r, k] = pos[i, k] + vel[i, k] * d + 0.5 * acc[i, k] * d * d
-            v2[r, k] = vel[i, k] + acc[i, k] * d
+            p2[r, k], v2[r, k] = _flown(pos[i, k], vel[i, k], acc[i, k], d)
             e2[r, k] = ext[i, k]
     if a >= 0:
         return sk._body_separation(k2, p2, e2, 0, 1)
