@@ -6,6 +6,11 @@ Nothing is compiled until :func:`kernels` is first called; numba caches the mach
 second. :func:`is_cached` tells whether a run will find the cache (a world then says on stderr
 that it compiles).
 
+A kernel file may name helpers to inline into their callers (``INLINE``) and functions to
+compile without numba's reference counts (``NO_REFCOUNT``: they allocate nothing). numba takes and
+gives back a count on every array an inlined helper is passed, atomically, and its pruning leaves
+them in loops; the exact stepper's phases run as such functions (bench/README.md measures it).
+
 numba keys each cached function on its own source file only, but the stepper's machine code
 contains the geometry kernels it calls: :func:`_forget_stale` drops the stepper's cache when the
 geometry file changed since it was written, so an edit there can never run stale code.
@@ -41,14 +46,16 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     sys.modules[qualified] = module
     spec.loader.exec_module(module)
     inline = set(getattr(module, "INLINE", ()))
+    no_refcount = set(getattr(module, "NO_REFCOUNT", ()))
     for attribute, value in list(vars(module).items()):
         if isinstance(value, types.FunctionType) and value.__module__ == qualified:
             # error_model="numpy": no Python exception check in every division (none can raise).
+            options: dict[str, Any] = {"cache": True, "error_model": "numpy"}
             if attribute in inline:
-                jitted = numba.njit(cache=True, error_model="numpy", inline="always")(value)
-            else:
-                jitted = numba.njit(cache=True, error_model="numpy")(value)
-            setattr(module, attribute, jitted)
+                options["inline"] = "always"
+            if attribute in no_refcount:
+                options["_nrt"] = False  # allocates nothing: no reference counts either
+            setattr(module, attribute, numba.njit(**options)(value))
     return module
 
 

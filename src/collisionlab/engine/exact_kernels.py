@@ -83,13 +83,23 @@ MAX_SUPPORTS = 3
 #: above it), so a body's acceleration may exceed ``|g|``; listing for more makes a second listing
 #: (when phase 2 finds a larger one) rare, at the cost of a sweep wider by ``|g| T^2 / 2``.
 ACCELERATION_HEADROOM = 2.0
+#: The heap has room for this many entries per candidate pair (and 2 more): twice the most that
+#: can be current (a pair's prediction and its rest's expiry), so a full heap compacts to at most
+#: half (:func:`_heap_compact`) and no push inside phase 4 allocates.
+HEAP_ROOM = 4
+#: What :func:`_impacts` returns with: no impact left before the step's end; a kick outran the
+#: candidates' bounds (list them again); the events buffer needs room before the next impact.
+DONE = 0
+RESTART = 1
+ROOM = 2
 #: Counters returned to the world: steps that hit MAX_IMPACTS_PER_STEP, impacts resolved, times
 #: the candidates had to be listed again within a step.
 STATUS_SIZE = 3
 
 #: Helpers the compiled form inlines into their callers: the small ones, and those the loop calls
 #: for every pair it looks at, which take arrays (a call costs a reference count taken and given
-#: back for each array it passes, more than the work inside).
+#: back for each array it passes, more than the work inside; inlined into a ``NO_REFCOUNT``
+#: phase, none at all).
 INLINE = (
     "_first_root",
     "_response",
@@ -111,6 +121,18 @@ INLINE = (
     "_unchanged_since",
     "_heap_push",
     "_heap_pop",
+)
+
+#: The loop's phases that allocate nothing, compiled without numba's reference counts: an
+#: inlined helper's array arguments each cost a count taken and given back per call, which
+#: numba's pruning leaves in loops (measured: a fifth of the kernel's time; bench/README).
+NO_REFCOUNT = (
+    "_base_accelerations",
+    "_rest_passes",
+    "_outrun",
+    "_predict_all",
+    "_impacts",
+    "_end_separations",
 )
 
 
@@ -744,10 +766,13 @@ def _heap_pop(ht: Any, hk: Any, hv: Any, size: int) -> int:
     return size
 
 
-def _heap_room(ht: Any, hk: Any, hv: Any, size: int, ver: Any) -> Any:
-    """Make room for one more entry: drop stale entries, and grow the arrays if still half full."""
+def _heap_compact(ht: Any, hk: Any, hv: Any, size: int, ver: Any) -> int:
+    """Make room for one more entry if the heap is full, in place: drop the stale entries (a
+    version other than ``ver``'s) and heap the others again; returns the new size. A key has at
+    most one current entry (each push takes a new version), so with ``HEAP_ROOM * count + 2``
+    places for ``2 count`` keys at least half the heap is then free."""
     if size < ht.shape[0]:
-        return ht, hk, hv, size
+        return size
     kept = 0
     for i in range(size):
         if hv[i] == ver[hk[i]]:
@@ -755,21 +780,10 @@ def _heap_room(ht: Any, hk: Any, hv: Any, size: int, ver: Any) -> Any:
             hk[kept] = hk[i]
             hv[kept] = hv[i]
             kept += 1
-    if 2 * kept > ht.shape[0]:
-        grown = 2 * ht.shape[0]
-        nt = np.empty(grown)
-        nk = np.empty(grown, np.int64)
-        nv = np.empty(grown, np.int64)
-        nt[:kept] = ht[:kept]
-        nk[:kept] = hk[:kept]
-        nv[:kept] = hv[:kept]
-        ht = nt
-        hk = nk
-        hv = nv
     size = 0
     for i in range(kept):  # heapify by pushing again
         size = _heap_push(ht, hk, hv, size, ht[i], hk[i], hv[i])
-    return ht, hk, hv, size
+    return size
 
 
 def _save_touching(
@@ -787,6 +801,599 @@ def _save_touching(
             kept += 1
     touch_count[0] = kept
     return touch_keys
+
+
+# --- the loop's phases, compiled without reference counts (NO_REFCOUNT) -----------------------
+def _base_accelerations(acc: Any, ima: Any, gravity: Any, nsup: Any) -> None:
+    """:func:`_base_acceleration` for every body."""
+    for i in range(acc.shape[0]):
+        _base_acceleration(i, acc, ima, gravity, nsup)
+
+
+def _rest_passes(
+    order: Any,
+    n_near: int,
+    seen: Any,
+    changed_at: Any,
+    ca: Any,
+    cb: Any,
+    normals: Any,
+    kind: Any,
+    vel: Any,
+    ext: Any,
+    ima: Any,
+    acc: Any,
+    sup: Any,
+    nsup: Any,
+    s_kind: Any,
+    rest: Any,
+    touching: Any,
+    rest_speed: float,
+    ledger: Any,
+) -> None:
+    """Phase 2's passes over the pairs in contact, in ``order`` (the first ``n_near``), until one
+    changes nothing (a stack of k bodies settles in k passes). A pair is looked at again only once
+    one of its bodies changed since (:func:`_rest` returns 0 again otherwise)."""
+    n = vel.shape[0]
+    for i in range(n):
+        changed_at[i] = 0
+    stamp = 0
+    for _pass in range(n + 1):
+        changed = False
+        for u in range(n_near):
+            c = order[u]
+            if rest[c] == 1:
+                continue
+            a = ca[c]
+            b = cb[c]
+            if seen[c] > 0 and changed_at[b] < seen[c] and (a < 0 or changed_at[a] < seen[c]):
+                continue
+            stamp += 1
+            seen[c] = stamp
+            done = _rest(
+                c, a, b, normals[c, 0], normals[c, 1], normals[c, 2], kind, vel, ext, ima, acc, sup, nsup, s_kind,
+                rest, touching, rest_speed, ledger,
+            )  # fmt: skip
+            if done != 0:
+                changed_at[b] = stamp
+                if a >= 0:
+                    changed_at[a] = stamp
+                changed = changed or done == 1
+        if not changed:
+            break
+
+
+def _outrun(acc: Any, vel: Any, v_ref: Any, v_bound: float, u_bound: float, a_bound: float) -> Any:
+    """Whether phase 2 left a body faster or more accelerated than the candidates were listed
+    for, and the largest acceleration (at least ``a_bound``)."""
+    grown = False
+    for i in range(acc.shape[0]):
+        size = math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2)
+        if size > a_bound:
+            a_bound = size
+            grown = True
+        if _speed_beyond(vel, i, v_ref, v_bound, u_bound):
+            grown = True
+    return grown, a_bound
+
+
+def _predict_all(
+    kind: Any,
+    pos: Any,
+    vel: Any,
+    acc: Any,
+    tau: Any,
+    ext: Any,
+    ima: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    rest: Any,
+    normals: Any,
+    count: int,
+    ht: Any,
+    hk: Any,
+    hv: Any,
+    t: float,
+    dt: float,
+    gap: float,
+    contact_margin: float,
+) -> int:
+    """Phase 3: push every moving candidate's first impact before ``dt`` (key ``c``) and every
+    resting pair's expiry (key ``count + c``), version 0, onto the empty heap (it has room for
+    both); returns its size."""
+    size = 0
+    for c in range(count):
+        a = ca[c]
+        b = cb[c]
+        if rest[c] == 1 or (ima[b] == 0.0 and (a < 0 or ima[a] == 0.0)):
+            continue
+        when = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap, -cd[c])
+        if when < dt:
+            size = _heap_push(ht, hk, hv, size, when, c, 0)
+    for c in range(count):
+        if rest[c] == 1:
+            when = t + _support_expiry(ca[c], cb[c], kind, vel, acc, ext, s_kind, normals, c, contact_margin)
+            if when < dt:
+                size = _heap_push(ht, hk, hv, size, when, count + c, 0)
+    return size
+
+
+def _impacts(
+    kind: Any,
+    pos: Any,
+    vel: Any,
+    acc: Any,
+    tau: Any,
+    ext: Any,
+    ima: Any,
+    eb: Any,
+    ids: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    s_e: Any,
+    gravity: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    count: int,
+    adj_start: Any,
+    adj: Any,
+    rest: Any,
+    touching: Any,
+    ignored: Any,
+    normals: Any,
+    sup: Any,
+    nsup: Any,
+    ver: Any,
+    ht: Any,
+    hk: Any,
+    hv: Any,
+    size: int,
+    sep_ev: Any,
+    sep_val: Any,
+    look_seen: Any,
+    look_changed: Any,
+    look_clock: int,
+    kicked: Any,
+    is_kicked: Any,
+    queue: Any,
+    queued: Any,
+    before: Any,
+    v_ref: Any,
+    events: Any,
+    event_count: Any,
+    event_room: int,
+    ledger: Any,
+    status: Any,
+    record: bool,
+    step: int,
+    start: float,
+    t: float,
+    dt: float,
+    gap: float,
+    e_default: float,
+    contact_margin: float,
+    rest_speed: float,
+    resting_on: bool,
+    u_bound: float,
+    v_bound: float,
+    a_bound: float,
+    ev: int,
+    impacts: int,
+    runaway: bool,
+) -> Any:
+    """Phase 4 (the module docstring): pop the heap's impacts in time order and resolve them, until
+    none is left before the step's end (``DONE``), a kick outran the candidates' bounds (``RESTART``:
+    the bodies it looked at are at ``when``, the rest list again from there) or, before popping one,
+    the events buffer has fewer than ``event_room`` rows free (``ROOM``: grow it and call again).
+    Returns ``(code, size, ev, impacts, look_clock, runaway, when)``.
+
+    Compiled without reference counts (``NO_REFCOUNT``): it allocates nothing, the heap has room
+    for every push (``_heap_compact``) and the driver gives the events buffer room first."""
+    n = pos.shape[0]
+    restart = False
+    while size > 0:
+        if record and events.shape[0] - event_count[0] < event_room:
+            return ROOM, size, ev, impacts, look_clock, runaway, 0.0
+        when = ht[0]
+        c = hk[0]
+        version = hv[0]
+        size = _heap_pop(ht, hk, hv, size)
+        if version != ver[c]:
+            continue
+        ev += 1
+        if when >= dt:
+            break
+        if impacts >= MAX_IMPACTS_PER_STEP:
+            status[0] += 1
+            break
+        if runaway:
+            # A kick left a body faster than the range simulated (e > 1 adds energy at
+            # every impact): the step ends here and the world's range guard stops the
+            # run, instead of thousands of impacts at speeds bound for inf.
+            break
+        impacts += 1
+        expiry = c >= count
+        # A pair listed farther apart than this cannot be in contact yet: the bounds the
+        # candidates were listed for (kept, or the step is cut) limit how much nearer
+        # it can be since (a separation changes no faster than the shapes move).
+        reach_body = contact_margin + gap + _closing(0, when - t, u_bound, v_bound, a_bound)
+        reach_static = contact_margin + gap + _closing(-1, when - t, u_bound, v_bound, a_bound)
+        if expiry:
+            c -= count
+        a = ca[c]
+        b = cb[c]
+        if a >= 0:
+            _advance(a, when, pos, vel, acc, tau, ima, gravity, ledger)
+        _advance(b, when, pos, vel, acc, tau, ima, gravity, ledger)
+        if expiry:
+            # A sliding rest's support has turned (_support_expiry): no impulse; the gap
+            # its straight flight opened is closed (the held body moved onto its holder,
+            # as push-apart moves bodies: momentum kept, the energy in ledger[2]) and its
+            # bodies are looked at again below, as kicked bodies are.
+            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+            if 0.0 < sep[0] <= contact_margin:
+                held = b if a < 0 or ima[a] == 0.0 or nsup[a] > 0 else a
+                sign = -1.0 if held == b else 1.0
+                if ima[held] > 0.0:
+                    for k in range(3):
+                        pos[held, k] += sign * sep[1 + k] * sep[0]
+                        ledger[2] -= sign * gravity[k] * sep[1 + k] * sep[0] / ima[held]  # -m g.dx
+            below = True
+            n_kicked = 0
+            for r in range(2):
+                i = a if r == 0 else b
+                if i >= 0 and ima[i] > 0.0:
+                    kicked[n_kicked] = i
+                    n_kicked += 1
+                    is_kicked[i] = 1
+        else:
+            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+            _remember(sep_ev, sep_val, c, ev, sep)
+            ver[c] += 1
+            if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
+                again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0])
+                if again < dt:
+                    size = _heap_compact(ht, hk, hv, size, ver)
+                    size = _heap_push(ht, hk, hv, size, again, c, ver[c])
+                continue
+            nx = sep[1]
+            ny = sep[2]
+            nz = sep[3]
+            for k in range(3):
+                before[k] = vel[a, k] if a >= 0 else 0.0
+                before[3 + k] = vel[b, k]
+            vn = (before[3] - before[0]) * nx + (before[4] - before[1]) * ny + (before[5] - before[2]) * nz
+            id_a = ids[a] if a >= 0 else a
+            if vn >= -_rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5]):
+                # it grazes away (or its approach is only rounding): nothing to resolve
+                if record and touching[c] == 0:
+                    sk._put_event(
+                        events,
+                        event_count[0],
+                        sk.EVENT_SKIPPED,
+                        step + 1,
+                        start + when,
+                        id_a,
+                        ids[b],
+                        sep,
+                        vn,
+                        0.0,
+                        0.0,
+                        before,
+                        vel,
+                        a,
+                        b,
+                    )
+                    event_count[0] += 1
+                ignored[c] = 1
+                continue
+            e_pair = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
+            # An approach no faster than falling twice the contact margin gives (a rest
+            # within the margin whose flight left a curved support by up to half of it
+            # more, _support_expiry) lands resting: e = 0 and no new event if in contact,
+            # as Forward Euler's |g.n| dt rule. Physics unchanged: such a hop would rise
+            # less than the margin.
+            pressing = 0.0
+            for k in range(3):
+                pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
+            below = -vn < rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
+            e = 0.0 if below else e_pair
+            j = _kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
+            status[1] += 1
+            for k in range(3):  # (not <=: NaN too)
+                if not abs(vel[b, k]) <= MAX_RUN_SPEED or (a >= 0 and not abs(vel[a, k]) <= MAX_RUN_SPEED):
+                    runaway = True
+            if record and (touching[c] == 0 or not below):
+                sk._put_event(
+                    events,
+                    event_count[0],
+                    sk.EVENT_BELOW_REST if below else sk.EVENT_IMPACT,
+                    step + 1,
+                    start + when,
+                    id_a,
+                    ids[b],
+                    sep,
+                    vn,
+                    j,
+                    e,
+                    before,
+                    vel,
+                    a,
+                    b,
+                )
+                event_count[0] += 1
+            touching[c] = 1
+            if -vn < rest_speed:
+                ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
+            # Settle the contacts this impact touches (sequential impulses, breadth first).
+            n_kicked = 0
+            head = 0
+            tail = 0
+            for r in range(2):
+                i = a if r == 0 else b
+                if i >= 0 and ima[i] > 0.0:
+                    queue[tail % n] = i
+                    tail += 1
+                    queued[i] = 1
+                    kicked[n_kicked] = i
+                    n_kicked += 1
+                    is_kicked[i] = 1
+            settled = 0
+            while head < tail and settled < RELAX_IMPULSES:
+                i = queue[head % n]
+                head += 1
+                queued[i] = 0
+                for u in range(adj_start[i], adj_start[i + 1]):
+                    c2 = adj[u]
+                    a2 = ca[c2]
+                    b2 = cb[c2]
+                    if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
+                        continue  # too far apart when listed to be in contact yet
+                    other = b2 if a2 == i else a2
+                    if sep_ev[c2] == ev:
+                        sep2 = _recalled(sep_val, c2)
+                    else:
+                        if other >= 0:
+                            _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                        _remember(sep_ev, sep_val, c2, ev, sep2)
+                    if sep2[0] > contact_margin:
+                        continue
+                    for k in range(3):
+                        before[k] = vel[a2, k] if a2 >= 0 else 0.0
+                        before[3 + k] = vel[b2, k]
+                    vn2 = (
+                        (before[3] - before[0]) * sep2[1]
+                        + (before[4] - before[1]) * sep2[2]
+                        + (before[5] - before[2]) * sep2[3]
+                    )
+                    still = _rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5])
+                    if vn2 >= -still:
+                        continue
+                    if sep2[0] > gap:
+                        # An approach too slow to close the gap (to TOI_GAP) before the step
+                        # ends is left alone: it cannot touch in this step (the gap along n
+                        # bounds the distance, as in phase 3), and its pair is predicted
+                        # again with the kicked bodies' pairs.
+                        an = 0.0
+                        for k in range(3):
+                            an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
+                        if _first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
+                            continue
+                    e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
+                    e_2 = 0.0 if -vn2 < rest_speed else e2_pair
+                    j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
+                    if j2 == 0.0:
+                        continue
+                    settled += 1
+                    status[1] += 1
+                    if record and touching[c2] == 0:
+                        sk._put_event(
+                            events,
+                            event_count[0],
+                            sk.EVENT_BELOW_REST if -vn2 < rest_speed else sk.EVENT_IMPACT,
+                            step + 1,
+                            start + when,
+                            ids[a2] if a2 >= 0 else a2,
+                            ids[b2],
+                            sep2,
+                            vn2,
+                            j2,
+                            e_2,
+                            before,
+                            vel,
+                            a2,
+                            b2,
+                        )
+                        event_count[0] += 1
+                    touching[c2] = 1
+                    for r in range(2):
+                        i2 = a2 if r == 0 else b2
+                        if i2 < 0 or ima[i2] == 0.0:
+                            continue
+                        if is_kicked[i2] == 0:
+                            is_kicked[i2] = 1
+                            kicked[n_kicked] = i2
+                            n_kicked += 1
+                        if queued[i2] == 0 and tail - head < n:
+                            queue[tail % n] = i2
+                            tail += 1
+                            queued[i2] = 1
+            for q in range(head, tail):
+                queued[queue[q % n]] = 0
+        # A kicked body that rested may lift off, and what rested on it with it: look at
+        # them again (their resting pairs are dropped, then found again on what holds).
+        n_look = n_kicked
+        for q in range(n_kicked):
+            i = kicked[q]
+            for u in range(adj_start[i], adj_start[i + 1]):
+                c2 = adj[u]
+                if rest[c2] == 0:
+                    continue
+                rest[c2] = 0
+                ver[count + c2] += 1  # its expiry, if any, with it
+                other = cb[c2] if ca[c2] == i else ca[c2]
+                if other >= 0 and ima[other] > 0.0 and is_kicked[other] == 0:
+                    _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                    is_kicked[other] = 1
+                    kicked[n_look] = other
+                    n_look += 1
+        for q in range(n_look):
+            i = kicked[q]
+            _advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
+            _base_acceleration(i, acc, ima, gravity, nsup)
+        if resting_on:  # on what holds: a static, a kinematic body, a supported body
+            look_start = look_clock + 1
+            for _pass in range(MAX_SUPPORTS):
+                changed = False
+                for q in range(n_look):
+                    i = kicked[q]
+                    for u in range(adj_start[i], adj_start[i + 1]):
+                        c2 = adj[u]
+                        a2 = ca[c2]
+                        b2 = cb[c2]
+                        other = b2 if a2 == i else a2
+                        if rest[c2] == 1 or (other >= 0 and ima[other] > 0.0 and nsup[other] == 0):
+                            continue
+                        if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
+                            continue
+                        if _unchanged_since(look_seen, look_changed, c2, a2, b2, look_start):
+                            continue  # looked at in this look already, its bodies unchanged: 0 again
+                        look_clock += 1
+                        look_seen[c2] = look_clock
+                        if sep_ev[c2] == ev:
+                            sep2 = _recalled(sep_val, c2)
+                        else:
+                            if other >= 0:
+                                _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
+                            sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                            _remember(sep_ev, sep_val, c2, ev, sep2)
+                        if sep2[0] > contact_margin:
+                            continue
+                        done = _rest(
+                            c2,
+                            a2,
+                            b2,
+                            sep2[1],
+                            sep2[2],
+                            sep2[3],
+                            kind,
+                            vel,
+                            ext,
+                            ima,
+                            acc,
+                            sup,
+                            nsup,
+                            s_kind,
+                            rest,
+                            touching,
+                            rest_speed,
+                            ledger,
+                        )
+                        if done != 0:
+                            look_changed[b2] = look_clock
+                            if a2 >= 0:
+                                look_changed[a2] = look_clock
+                        if done == 1:
+                            changed = True
+                            for k in range(3):
+                                normals[c2, k] = sep2[1 + k]
+                if not changed:
+                    break
+            for q in range(n_look):  # the new rests' expiries
+                i = kicked[q]
+                for u in range(adj_start[i], adj_start[i + 1]):
+                    c2 = adj[u]
+                    if rest[c2] == 0:
+                        continue
+                    ver[count + c2] += 1
+                    later = when + _support_expiry(
+                        ca[c2], cb[c2], kind, vel, acc, ext, s_kind, normals, c2, contact_margin
+                    )
+                    if later < dt:
+                        size = _heap_compact(ht, hk, hv, size, ver)
+                        size = _heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
+        for q in range(n_look):
+            grown_by = a_bound * (when - t)
+            if _speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, u_bound + grown_by):
+                restart = True
+        if restart:
+            for q in range(n_look):
+                is_kicked[kicked[q]] = 0
+            return RESTART, size, ev, impacts, look_clock, runaway, when
+        # Predict the looked-at bodies' pairs again.
+        for q in range(n_look):
+            i = kicked[q]
+            for u in range(adj_start[i], adj_start[i + 1]):
+                c2 = adj[u]
+                if c2 != c and not below:
+                    ignored[c2] = 0
+                a2 = ca[c2]
+                b2 = cb[c2]
+                ver[c2] += 1
+                if rest[c2] == 1 or ignored[c2] == 1:
+                    continue
+                if ima[b2] == 0.0 and (a2 < 0 or ima[a2] == 0.0):
+                    continue
+                floor = -cd[c2] - _closing(a2, when - t, u_bound, v_bound, a_bound)
+                if sep_ev[c2] == ev:
+                    floor = max(floor, sep_val[c2, 0])
+                again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor)
+                if again < dt:
+                    size = _heap_compact(ht, hk, hv, size, ver)
+                    size = _heap_push(ht, hk, hv, size, again, c2, ver[c2])
+        for q in range(n_look):
+            is_kicked[kicked[q]] = 0
+    return DONE, size, ev, impacts, look_clock, runaway, dt
+
+
+def _end_separations(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    ca: Any,
+    cb: Any,
+    cd: Any,
+    cn: Any,
+    count: int,
+    near_idx: Any,
+    elapsed: float,
+    u_bound: float,
+    v_bound: float,
+    a_bound: float,
+    contact_margin: float,
+    gap: float,
+    solver_margin: float,
+) -> Any:
+    """Phase 5's look at every candidate, its bodies at the step's end (``elapsed`` after the
+    listing): ``cd`` gets its depth (or a bound on it, enough for a pair neither pushed apart nor
+    in contact) and ``cn`` its normal; ``near_idx`` gets the pairs push-apart looks at, in their
+    order. Returns how many, and whether any overlaps."""
+    n_push = 0
+    overlap = False
+    for c in range(count):
+        closing = _closing(ca[c], elapsed, u_bound, v_bound, a_bound)
+        if -cd[c] - closing > contact_margin + gap:
+            cd[c] -= closing  # a bound is enough: neither pushed apart nor in contact
+            continue
+        sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
+        cd[c] = -sep[0]
+        for k in range(3):  # push-apart's first look at the pair, until a body moves
+            cn[c, k] = sep[1 + k]
+        if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
+            near_idx[n_push] = c
+            n_push += 1
+            overlap = overlap or cd[c] > 0.0
+    return n_push, overlap
 
 
 # --- the loop -----------------------------------------------------------------------------------
@@ -926,8 +1533,7 @@ def run_exact_steps(
                     cd = np.zeros(2 * count)
                     cn = np.zeros((2 * count, 3))
                 # Phase 2: resting contacts and the accelerations they leave.
-                for i in range(n):
-                    _base_acceleration(i, acc, ima, gravity, nsup)
+                _base_accelerations(acc, ima, gravity, nsup)
                 touching = np.zeros(count, np.int8)
                 rest = np.zeros(count, np.int8)
                 ignored = np.zeros(count, np.int8)
@@ -948,55 +1554,11 @@ def run_exact_steps(
                             n_near += 1
                             seen[c] = 0
                     order = sk._order_coupled(pos, ca, cb, cd, near_idx, n_near, degree)
-                    for i in range(n):
-                        changed_at[i] = 0
-                    stamp = 0
-                    for _pass in range(n + 1):  # a stack of k bodies settles in k passes
-                        changed = False
-                        for u in range(n_near):
-                            c = order[u]
-                            if rest[c] == 1:
-                                continue
-                            a = ca[c]
-                            b = cb[c]
-                            if seen[c] > 0 and changed_at[b] < seen[c] and (a < 0 or changed_at[a] < seen[c]):
-                                continue
-                            stamp += 1
-                            seen[c] = stamp
-                            done = _rest(
-                                c,
-                                ca[c],
-                                cb[c],
-                                normals[c, 0],
-                                normals[c, 1],
-                                normals[c, 2],
-                                kind,
-                                vel,
-                                ext,
-                                ima,
-                                acc,
-                                sup,
-                                nsup,
-                                s_kind,
-                                rest,
-                                touching,
-                                rest_speed,
-                                ledger,
-                            )
-                            if done != 0:
-                                changed_at[b] = stamp
-                                if a >= 0:
-                                    changed_at[a] = stamp
-                                changed = changed or done == 1
-                        if not changed:
-                            break
-                grown = False
-                for i in range(n):
-                    if math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2) > a_bound:
-                        a_bound = math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2)
-                        grown = True
-                    if _speed_beyond(vel, i, v_ref, v_bound, u_bound):
-                        grown = True
+                    _rest_passes(
+                        order, n_near, seen, changed_at, ca, cb, normals, kind, vel, ext, ima, acc, sup, nsup, s_kind,
+                        rest, touching, rest_speed, ledger,
+                    )  # fmt: skip
+                grown, a_bound = _outrun(acc, vel, v_ref, v_bound, u_bound, a_bound)
                 if not grown:
                     break
             # Each body's candidate pairs (CSR).
@@ -1005,7 +1567,9 @@ def run_exact_steps(
                 if ca[c] >= 0:
                     adj_start[ca[c] + 1] += 1
                 adj_start[cb[c] + 1] += 1
+            max_degree = 0
             for i in range(n):
+                max_degree = max(max_degree, adj_start[i + 1])
                 adj_start[i + 1] += adj_start[i]
             fill = adj_start[:n].copy()
             adj = np.zeros(max(1, adj_start[n]), np.int64)
@@ -1021,387 +1585,38 @@ def run_exact_steps(
                 sep_ev = np.full(2 * count, -1, np.int64)
                 sep_val = np.empty((2 * count, 7))
                 look_seen = np.zeros(2 * count, np.int64)
-            size = 0
-            for c in range(count):
-                a = ca[c]
-                b = cb[c]
-                if rest[c] == 1 or (ima[b] == 0.0 and (a < 0 or ima[a] == 0.0)):
-                    continue
-                when = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap, -cd[c])
-                if when < dt:
-                    ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
-                    size = _heap_push(ht, hk, hv, size, when, c, 0)
-            for c in range(count):
-                if rest[c] == 1:
-                    when = t + _support_expiry(ca[c], cb[c], kind, vel, acc, ext, s_kind, normals, c, contact_margin)
-                    if when < dt:
-                        ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
-                        size = _heap_push(ht, hk, hv, size, when, count + c, 0)
+            if ht.shape[0] < HEAP_ROOM * count + 2:  # (_heap_compact)
+                ht = np.zeros(2 * HEAP_ROOM * count + 4)
+                hk = np.zeros(2 * HEAP_ROOM * count + 4, np.int64)
+                hv = np.zeros(2 * HEAP_ROOM * count + 4, np.int64)
+            size = _predict_all(
+                kind, pos, vel, acc, tau, ext, ima, s_kind, s_a, s_b, ca, cb, cd, rest, normals, count, ht, hk, hv,
+                t, dt, gap, contact_margin,
+            )  # fmt: skip
             # Phase 4: impacts in time order.
-            restart = False
-            while size > 0:
-                when = ht[0]
-                c = hk[0]
-                version = hv[0]
-                size = _heap_pop(ht, hk, hv, size)
-                if version != ver[c]:
-                    continue
-                ev += 1
-                if when >= dt:
+            event_room = 1 + min(count, RELAX_IMPULSES + max_degree)  # the most rows one impact writes
+            while True:
+                if record:
+                    events = sk._events_with_room(events, event_count[0], event_room)
+                code, size, ev, impacts, look_clock, runaway, when = _impacts(
+                    kind, pos, vel, acc, tau, ext, ima, eb, ids, s_kind, s_a, s_b, s_e, gravity, ca, cb, cd, count,
+                    adj_start, adj, rest, touching, ignored, normals, sup, nsup, ver, ht, hk, hv, size, sep_ev,
+                    sep_val, look_seen, look_changed, look_clock, kicked, is_kicked, queue, queued, before, v_ref,
+                    events, event_count, event_room, ledger, status, record, step, start, t, dt, gap, e_default,
+                    contact_margin, rest_speed, resting_on, u_bound, v_bound, a_bound, ev, impacts, runaway,
+                )  # fmt: skip
+                if code != ROOM:
                     break
-                if impacts >= MAX_IMPACTS_PER_STEP:
-                    status[0] += 1
-                    break
-                if runaway:
-                    # A kick left a body faster than the range simulated (e > 1 adds energy at
-                    # every impact): the step ends here and the world's range guard stops the
-                    # run, instead of thousands of impacts at speeds bound for inf.
-                    break
-                impacts += 1
-                expiry = c >= count
-                # A pair listed farther apart than this cannot be in contact yet: the bounds the
-                # candidates were listed for (kept, or the step is cut) limit how much nearer
-                # it can be since (a separation changes no faster than the shapes move).
-                reach_body = contact_margin + gap + _closing(0, when - t, u_bound, v_bound, a_bound)
-                reach_static = contact_margin + gap + _closing(-1, when - t, u_bound, v_bound, a_bound)
-                if expiry:
-                    c -= count
-                a = ca[c]
-                b = cb[c]
-                if a >= 0:
-                    _advance(a, when, pos, vel, acc, tau, ima, gravity, ledger)
-                _advance(b, when, pos, vel, acc, tau, ima, gravity, ledger)
-                if expiry:
-                    # A sliding rest's support has turned (_support_expiry): no impulse; the gap
-                    # its straight flight opened is closed (the held body moved onto its holder,
-                    # as push-apart moves bodies: momentum kept, the energy in ledger[2]) and its
-                    # bodies are looked at again below, as kicked bodies are.
-                    sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-                    if 0.0 < sep[0] <= contact_margin:
-                        held = b if a < 0 or ima[a] == 0.0 or nsup[a] > 0 else a
-                        sign = -1.0 if held == b else 1.0
-                        if ima[held] > 0.0:
-                            for k in range(3):
-                                pos[held, k] += sign * sep[1 + k] * sep[0]
-                                ledger[2] -= sign * gravity[k] * sep[1 + k] * sep[0] / ima[held]  # -m g.dx
-                    below = True
-                    n_kicked = 0
-                    for r in range(2):
-                        i = a if r == 0 else b
-                        if i >= 0 and ima[i] > 0.0:
-                            kicked[n_kicked] = i
-                            n_kicked += 1
-                            is_kicked[i] = 1
-                else:
-                    sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-                    _remember(sep_ev, sep_val, c, ev, sep)
-                    ver[c] += 1
-                    if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
-                        again = _time_of_impact(
-                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0]
-                        )
-                        if again < dt:
-                            ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
-                            size = _heap_push(ht, hk, hv, size, again, c, ver[c])
-                        continue
-                    nx = sep[1]
-                    ny = sep[2]
-                    nz = sep[3]
-                    for k in range(3):
-                        before[k] = vel[a, k] if a >= 0 else 0.0
-                        before[3 + k] = vel[b, k]
-                    vn = (before[3] - before[0]) * nx + (before[4] - before[1]) * ny + (before[5] - before[2]) * nz
-                    id_a = ids[a] if a >= 0 else a
-                    if vn >= -_rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5]):
-                        # it grazes away (or its approach is only rounding): nothing to resolve
-                        if record and touching[c] == 0:
-                            events = sk._write_event(
-                                events,
-                                event_count[0],
-                                sk.EVENT_SKIPPED,
-                                step + 1,
-                                start + when,
-                                id_a,
-                                ids[b],
-                                sep,
-                                vn,
-                                0.0,
-                                0.0,
-                                before,
-                                vel,
-                                a,
-                                b,
-                            )
-                            event_count[0] += 1
-                        ignored[c] = 1
-                        continue
-                    e_pair = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
-                    # An approach no faster than falling twice the contact margin gives (a rest
-                    # within the margin whose flight left a curved support by up to half of it
-                    # more, _support_expiry) lands resting: e = 0 and no new event if in contact,
-                    # as Forward Euler's |g.n| dt rule. Physics unchanged: such a hop would rise
-                    # less than the margin.
-                    pressing = 0.0
-                    for k in range(3):
-                        pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
-                    below = -vn < rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
-                    e = 0.0 if below else e_pair
-                    j = _kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
-                    status[1] += 1
-                    for k in range(3):  # (not <=: NaN too)
-                        if not abs(vel[b, k]) <= MAX_RUN_SPEED or (a >= 0 and not abs(vel[a, k]) <= MAX_RUN_SPEED):
-                            runaway = True
-                    if record and (touching[c] == 0 or not below):
-                        events = sk._write_event(
-                            events,
-                            event_count[0],
-                            sk.EVENT_BELOW_REST if below else sk.EVENT_IMPACT,
-                            step + 1,
-                            start + when,
-                            id_a,
-                            ids[b],
-                            sep,
-                            vn,
-                            j,
-                            e,
-                            before,
-                            vel,
-                            a,
-                            b,
-                        )
-                        event_count[0] += 1
-                    touching[c] = 1
-                    if -vn < rest_speed:
-                        ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
-                    # Settle the contacts this impact touches (sequential impulses, breadth first).
-                    n_kicked = 0
-                    head = 0
-                    tail = 0
-                    for r in range(2):
-                        i = a if r == 0 else b
-                        if i >= 0 and ima[i] > 0.0:
-                            queue[tail % n] = i
-                            tail += 1
-                            queued[i] = 1
-                            kicked[n_kicked] = i
-                            n_kicked += 1
-                            is_kicked[i] = 1
-                    settled = 0
-                    while head < tail and settled < RELAX_IMPULSES:
-                        i = queue[head % n]
-                        head += 1
-                        queued[i] = 0
-                        for u in range(adj_start[i], adj_start[i + 1]):
-                            c2 = adj[u]
-                            a2 = ca[c2]
-                            b2 = cb[c2]
-                            if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
-                                continue  # too far apart when listed to be in contact yet
-                            other = b2 if a2 == i else a2
-                            if sep_ev[c2] == ev:
-                                sep2 = _recalled(sep_val, c2)
-                            else:
-                                if other >= 0:
-                                    _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                                sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                                _remember(sep_ev, sep_val, c2, ev, sep2)
-                            if sep2[0] > contact_margin:
-                                continue
-                            for k in range(3):
-                                before[k] = vel[a2, k] if a2 >= 0 else 0.0
-                                before[3 + k] = vel[b2, k]
-                            vn2 = (
-                                (before[3] - before[0]) * sep2[1]
-                                + (before[4] - before[1]) * sep2[2]
-                                + (before[5] - before[2]) * sep2[3]
-                            )
-                            still = _rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5])
-                            if vn2 >= -still:
-                                continue
-                            if sep2[0] > gap:
-                                # An approach too slow to close the gap (to TOI_GAP) before the step
-                                # ends is left alone: it cannot touch in this step (the gap along n
-                                # bounds the distance, as in phase 3), and its pair is predicted
-                                # again with the kicked bodies' pairs.
-                                an = 0.0
-                                for k in range(3):
-                                    an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
-                                if _first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
-                                    continue
-                            e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
-                            e_2 = 0.0 if -vn2 < rest_speed else e2_pair
-                            j2 = _kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
-                            if j2 == 0.0:
-                                continue
-                            settled += 1
-                            status[1] += 1
-                            if record and touching[c2] == 0:
-                                events = sk._write_event(
-                                    events,
-                                    event_count[0],
-                                    sk.EVENT_BELOW_REST if -vn2 < rest_speed else sk.EVENT_IMPACT,
-                                    step + 1,
-                                    start + when,
-                                    ids[a2] if a2 >= 0 else a2,
-                                    ids[b2],
-                                    sep2,
-                                    vn2,
-                                    j2,
-                                    e_2,
-                                    before,
-                                    vel,
-                                    a2,
-                                    b2,
-                                )
-                                event_count[0] += 1
-                            touching[c2] = 1
-                            for r in range(2):
-                                i2 = a2 if r == 0 else b2
-                                if i2 < 0 or ima[i2] == 0.0:
-                                    continue
-                                if is_kicked[i2] == 0:
-                                    is_kicked[i2] = 1
-                                    kicked[n_kicked] = i2
-                                    n_kicked += 1
-                                if queued[i2] == 0 and tail - head < n:
-                                    queue[tail % n] = i2
-                                    tail += 1
-                                    queued[i2] = 1
-                    for q in range(head, tail):
-                        queued[queue[q % n]] = 0
-                # A kicked body that rested may lift off, and what rested on it with it: look at
-                # them again (their resting pairs are dropped, then found again on what holds).
-                n_look = n_kicked
-                for q in range(n_kicked):
-                    i = kicked[q]
-                    for u in range(adj_start[i], adj_start[i + 1]):
-                        c2 = adj[u]
-                        if rest[c2] == 0:
-                            continue
-                        rest[c2] = 0
-                        ver[count + c2] += 1  # its expiry, if any, with it
-                        other = cb[c2] if ca[c2] == i else ca[c2]
-                        if other >= 0 and ima[other] > 0.0 and is_kicked[other] == 0:
-                            _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                            is_kicked[other] = 1
-                            kicked[n_look] = other
-                            n_look += 1
-                for q in range(n_look):
-                    i = kicked[q]
-                    _advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
-                    _base_acceleration(i, acc, ima, gravity, nsup)
-                if resting_on:  # on what holds: a static, a kinematic body, a supported body
-                    look_start = look_clock + 1
-                    for _pass in range(MAX_SUPPORTS):
-                        changed = False
-                        for q in range(n_look):
-                            i = kicked[q]
-                            for u in range(adj_start[i], adj_start[i + 1]):
-                                c2 = adj[u]
-                                a2 = ca[c2]
-                                b2 = cb[c2]
-                                other = b2 if a2 == i else a2
-                                if rest[c2] == 1 or (other >= 0 and ima[other] > 0.0 and nsup[other] == 0):
-                                    continue
-                                if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
-                                    continue
-                                if _unchanged_since(look_seen, look_changed, c2, a2, b2, look_start):
-                                    continue  # looked at in this look already, its bodies unchanged: 0 again
-                                look_clock += 1
-                                look_seen[c2] = look_clock
-                                if sep_ev[c2] == ev:
-                                    sep2 = _recalled(sep_val, c2)
-                                else:
-                                    if other >= 0:
-                                        _advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                                    sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                                    _remember(sep_ev, sep_val, c2, ev, sep2)
-                                if sep2[0] > contact_margin:
-                                    continue
-                                done = _rest(
-                                    c2,
-                                    a2,
-                                    b2,
-                                    sep2[1],
-                                    sep2[2],
-                                    sep2[3],
-                                    kind,
-                                    vel,
-                                    ext,
-                                    ima,
-                                    acc,
-                                    sup,
-                                    nsup,
-                                    s_kind,
-                                    rest,
-                                    touching,
-                                    rest_speed,
-                                    ledger,
-                                )
-                                if done != 0:
-                                    look_changed[b2] = look_clock
-                                    if a2 >= 0:
-                                        look_changed[a2] = look_clock
-                                if done == 1:
-                                    changed = True
-                                    for k in range(3):
-                                        normals[c2, k] = sep2[1 + k]
-                        if not changed:
-                            break
-                    for q in range(n_look):  # the new rests' expiries
-                        i = kicked[q]
-                        for u in range(adj_start[i], adj_start[i + 1]):
-                            c2 = adj[u]
-                            if rest[c2] == 0:
-                                continue
-                            ver[count + c2] += 1
-                            later = when + _support_expiry(
-                                ca[c2], cb[c2], kind, vel, acc, ext, s_kind, normals, c2, contact_margin
-                            )
-                            if later < dt:
-                                ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
-                                size = _heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
-                for q in range(n_look):
-                    grown_by = a_bound * (when - t)
-                    if _speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, u_bound + grown_by):
-                        restart = True
-                if restart:
-                    for q in range(n_look):
-                        is_kicked[kicked[q]] = 0
-                    _advance_all(when, pos, vel, acc, tau, ima, gravity, ledger)
-                    near = np.zeros(count, np.int8)
-                    for c2 in range(count):
-                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
-                        near[c2] = 1 if sep2[0] <= contact_margin else 0
-                    touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
-                    t = when
-                    status[2] += 1
-                    break
-                # Predict the looked-at bodies' pairs again.
-                for q in range(n_look):
-                    i = kicked[q]
-                    for u in range(adj_start[i], adj_start[i + 1]):
-                        c2 = adj[u]
-                        if c2 != c and not below:
-                            ignored[c2] = 0
-                        a2 = ca[c2]
-                        b2 = cb[c2]
-                        ver[c2] += 1
-                        if rest[c2] == 1 or ignored[c2] == 1:
-                            continue
-                        if ima[b2] == 0.0 and (a2 < 0 or ima[a2] == 0.0):
-                            continue
-                        floor = -cd[c2] - _closing(a2, when - t, u_bound, v_bound, a_bound)
-                        if sep_ev[c2] == ev:
-                            floor = max(floor, sep_val[c2, 0])
-                        again = _time_of_impact(
-                            kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor
-                        )
-                        if again < dt:
-                            ht, hk, hv, size = _heap_room(ht, hk, hv, size, ver)
-                            size = _heap_push(ht, hk, hv, size, again, c2, ver[c2])
-                for q in range(n_look):
-                    is_kicked[kicked[q]] = 0
+            restart = code == RESTART
+            if restart:  # list the candidates again from the time the bounds were outrun
+                _advance_all(when, pos, vel, acc, tau, ima, gravity, ledger)
+                near = np.zeros(count, np.int8)
+                for c2 in range(count):
+                    sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
+                    near[c2] = 1 if sep2[0] <= contact_margin else 0
+                touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
+                t = when
+                status[2] += 1
             if not restart:
                 break
         # Phase 5: the end of the step.
@@ -1411,21 +1626,10 @@ def run_exact_steps(
             seen = np.zeros(2 * count, np.int64)
         if looked.shape[0] < count:
             looked = np.zeros(2 * count, np.int64)
-        n_push = 0
-        overlap = False
-        for c in range(count):
-            closing = _closing(ca[c], dt - t, u_bound, v_bound, a_bound)
-            if -cd[c] - closing > contact_margin + gap:
-                cd[c] -= closing  # a bound is enough: neither pushed apart nor in contact
-                continue
-            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
-            cd[c] = -sep[0]
-            for k in range(3):  # push-apart's first look at the pair, until a body moves
-                cn[c, k] = sep[1 + k]
-            if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
-                near_idx[n_push] = c
-                n_push += 1
-                overlap = overlap or cd[c] > 0.0
+        n_push, overlap = _end_separations(
+            kind, pos, ext, s_kind, s_a, s_b, ca, cb, cd, cn, count, near_idx, dt - t, u_bound, v_bound, a_bound,
+            contact_margin, gap, solver_margin,
+        )  # fmt: skip
         # Push-apart moves only overlapping pairs (the others only once a push makes them
         # overlap): with none, its first pass would move nothing, so neither it nor its order
         # is needed.

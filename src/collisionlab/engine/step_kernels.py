@@ -109,6 +109,7 @@ INLINE = (
     "_body_width",
     "_wider",
     "_bucket",
+    "_put_event",
 )
 
 #: An event row's kind: an impact; a contact skipped as separating; an impact whose e was set to 0
@@ -1240,6 +1241,16 @@ def _mark_touching(
 
 
 # --- phases 5 and 6: impulses and push-apart ----------------------------------------------------
+def _events_with_room(events: Any, used: int, room: int) -> Any:
+    """``events`` if at least ``room`` rows past the first ``used`` are free, else a copy at least
+    twice as large (and ``used + room`` rows) with the first rows kept."""
+    if events.shape[0] - used >= room:
+        return events
+    grown = np.zeros((max(2 * events.shape[0] + 16, used + room), events.shape[1]))
+    grown[: events.shape[0]] = events
+    return grown
+
+
 def _write_event(
     events: Any,
     count: int,
@@ -1258,27 +1269,44 @@ def _write_event(
     b: int,
 ) -> Any:
     """Append an event row, growing the buffer when full; returns the buffer."""
-    if count >= events.shape[0]:
-        grown = np.zeros((2 * events.shape[0] + 16, events.shape[1]))
-        grown[: events.shape[0]] = events
-        events = grown
-    row = events[count]
-    row[0] = kind_code
-    row[1] = step
-    row[2] = time
-    row[3] = id_a
-    row[4] = id_b
-    for k in range(6):
-        row[5 + k] = sep[1 + k]
-    row[11] = vn
-    row[12] = j
-    row[13] = e
-    for k in range(6):
-        row[14 + k] = before[k]
-    for k in range(3):
-        row[20 + k] = vel[a, k] if a >= 0 else 0.0
-        row[23 + k] = vel[b, k]
+    events = _events_with_room(events, count, 1)
+    _put_event(events, count, kind_code, step, time, id_a, id_b, sep, vn, j, e, before, vel, a, b)
     return events
+
+
+def _put_event(
+    events: Any,
+    count: int,
+    kind_code: int,
+    step: int,
+    time: float,
+    id_a: int,
+    id_b: int,
+    sep: Any,
+    vn: float,
+    j: float,
+    e: float,
+    before: Any,
+    vel: Any,
+    a: int,
+    b: int,
+) -> None:
+    """Write event row ``count`` (the buffer has room: :func:`_events_with_room`)."""
+    events[count, 0] = kind_code
+    events[count, 1] = step
+    events[count, 2] = time
+    events[count, 3] = id_a
+    events[count, 4] = id_b
+    for k in range(6):
+        events[count, 5 + k] = sep[1 + k]
+    events[count, 11] = vn
+    events[count, 12] = j
+    events[count, 13] = e
+    for k in range(6):
+        events[count, 14 + k] = before[k]
+    for k in range(3):
+        events[count, 20 + k] = vel[a, k] if a >= 0 else 0.0
+        events[count, 23 + k] = vel[b, k]
 
 
 def _impulses(
