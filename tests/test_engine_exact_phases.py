@@ -1,0 +1,164 @@
+"""The exact stepper's phases as its compiled form runs them (exact_kernels, compiled.py): compiled
+without reference counts (NO_REFCOUNT), so they allocate nothing. The heap compacts in place; the
+driver gives the events buffer room before each call (ROOM): a run is the same however tight."""
+
+from __future__ import annotations
+
+import tomllib
+import types
+
+import numpy as np
+import pytest
+
+from collisionlab.engine import compiled, exact_kernels, geometry_kernels, step_kernels
+from collisionlab.engine.params import WorldParams
+from collisionlab.engine.world import World
+from collisionlab.scenario_file import parse_scenario
+
+# 40 balls dropped between four walls onto a tilted floor: impacts, settling and rests in every step.
+HEAP_OF_BALLS = """
+[simulation]
+dt = 0.005
+steps = 80
+restitution = 0.5
+gravity = [0, -9.81, 0]
+mode = "exact"
+
+[[gas]]
+name = "ball"
+shape = "sphere"
+radius = 0.05
+region = [[-0.4, 0.1, -0.4], [0.4, 0.5, 0.4]]
+count = 40
+kT = 0.01
+seed = 3
+
+[[static]]
+name = "floor"
+shape = "plane"
+point = [0, 0, 0]
+normal = [0.2, 1, 0]
+
+[[static]]
+name = "left"
+shape = "plane"
+point = [-0.5, 0, 0]
+normal = [1, 0, 0]
+
+[[static]]
+name = "right"
+shape = "plane"
+point = [0.5, 0, 0]
+normal = [-1, 0, 0]
+
+[[static]]
+name = "back"
+shape = "plane"
+point = [0, 0, -0.5]
+normal = [0, 0, 1]
+
+[[static]]
+name = "front"
+shape = "plane"
+point = [0, 0, 0.5]
+normal = [0, 0, -1]
+"""
+
+
+@pytest.mark.parametrize("module", [geometry_kernels, step_kernels, exact_kernels])
+def test_every_helper_named_for_the_compiler_is_a_function_of_its_module(module: types.ModuleType) -> None:
+    inline = set(getattr(module, "INLINE", ()))
+    no_refcount = set(getattr(module, "NO_REFCOUNT", ()))
+    assert not inline & no_refcount  # an inlined body is compiled as its caller is
+    for name in inline | no_refcount:  # a misspelt name would silently compile the default way
+        assert isinstance(getattr(module, name, None), types.FunctionType), name
+
+
+def test_the_compiled_phases_take_no_reference_counts_and_the_driver_does() -> None:
+    kernels = compiled.exact_kernels()
+    assert exact_kernels.NO_REFCOUNT  # the phases are named
+    for name in exact_kernels.NO_REFCOUNT:
+        assert getattr(kernels, name).targetoptions.get("_nrt") is False, name
+    assert kernels.run_exact_steps.targetoptions.get("_nrt", True) is True  # it allocates
+
+
+def _filled_heap(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, np.ndarray]:
+    """A full heap of entries for 2 * 30 keys, several versions per key (the highest current)."""
+    rng = np.random.default_rng(seed)
+    count = 30
+    capacity = exact_kernels.HEAP_ROOM * count + 2
+    ht, hk, hv = np.zeros(capacity), np.zeros(capacity, np.int64), np.zeros(capacity, np.int64)
+    ver = np.zeros(2 * count, np.int64)
+    size = 0
+    while size < capacity:
+        key = int(rng.integers(0, 2 * count))
+        ver[key] += 1  # each push takes a new version, as the stepper's do
+        when = float(rng.choice([0.25, 0.5, rng.random()]))  # ties in time too
+        size = exact_kernels._heap_push(ht, hk, hv, size, when, key, int(ver[key]))
+    return ht, hk, hv, size, ver
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_a_full_heap_compacts_in_place_to_its_current_entries_in_time_order(seed: int) -> None:
+    ht, hk, hv, size, ver = _filled_heap(seed)
+    current = sorted((ht[i], hk[i]) for i in range(size) if hv[i] == ver[hk[i]])
+    arrays = (ht, hk, hv)
+    size = exact_kernels._heap_compact(ht, hk, hv, size, ver)
+    assert size == len(current) <= ht.shape[0] // 2  # room for half the heap again
+    assert all(a is b for a, b in zip(arrays, (ht, hk, hv), strict=True))  # nothing new allocated
+    popped = []
+    while size > 0:
+        popped.append((ht[0], hk[0]))
+        assert hv[0] == ver[hk[0]]
+        size = exact_kernels._heap_pop(ht, hk, hv, size)
+    assert popped == current  # oracle: sorting by (time, key)
+
+
+def test_a_heap_with_room_is_left_as_it_is() -> None:
+    ht, hk, hv, size, ver = _filled_heap(0)
+    size = exact_kernels._heap_pop(ht, hk, hv, size)
+    before = (ht.copy(), hk.copy(), hv.copy())
+    assert exact_kernels._heap_compact(ht, hk, hv, size, ver) == size
+    assert all(np.array_equal(a, b) for a, b in zip(before, (ht, hk, hv), strict=True))
+
+
+def test_the_events_buffer_grows_only_when_short_of_room_and_keeps_its_rows() -> None:
+    events = np.arange(10.0 * step_kernels.EVENT_COLUMNS).reshape(10, step_kernels.EVENT_COLUMNS)
+    assert step_kernels._events_with_room(events, 6, 4) is events  # rows 6-9 are free
+    grown = step_kernels._events_with_room(events, 6, 5)
+    assert grown.shape == (36, step_kernels.EVENT_COLUMNS)  # 2 * 10 + 16, at least 6 + 5
+    assert np.array_equal(grown[:10], events) and not grown[10:].any()
+    assert step_kernels._events_with_room(events, 6, 100).shape[0] == 106
+
+
+def _run(text: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    world = World(parse_scenario(tomllib.loads(text)), WorldParams(compiled=False))  # the Python form: patchable
+    world.step(world.scenario.settings.steps)
+    stepper = world.stepper
+    return world.position_array.copy(), world.velocity_array.copy(), stepper.events().copy(), stepper.ledger.copy()
+
+
+def test_a_run_is_the_same_when_the_events_buffer_has_only_just_room(monkeypatch: pytest.MonkeyPatch) -> None:
+    roomy = _run(HEAP_OF_BALLS)
+    returns: list[int] = []
+    impacts = exact_kernels._impacts
+
+    def counted(*args: object) -> tuple[int, ...]:
+        result: tuple[int, ...] = impacts(*args)
+        returns.append(result[0])
+        return result
+
+    def just_room(events: np.ndarray, used: int, room: int) -> np.ndarray:
+        if events.shape[0] - used >= room:
+            return events
+        grown = np.zeros((used + room, events.shape[1]))  # not a row more
+        grown[: min(used, events.shape[0])] = events[:used]
+        return grown
+
+    monkeypatch.setattr(exact_kernels, "_impacts", counted)
+    monkeypatch.setattr(step_kernels, "_events_with_room", just_room)
+    tight = _run(HEAP_OF_BALLS)
+    assert returns.count(exact_kernels.ROOM) > 10  # the impacts stopped for room, and went on
+    assert roomy[2].shape[0] > 100  # events enough to matter
+    for a, b in zip(roomy, tight, strict=True):
+        assert np.array_equal(a, b)
