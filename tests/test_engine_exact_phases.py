@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import tomllib
 import types
+from typing import Any
 
 import numpy as np
 import pytest
@@ -143,7 +144,7 @@ def test_a_run_is_the_same_when_the_events_buffer_has_only_just_room(monkeypatch
     returns: list[int] = []
     impacts = exact_kernels._impacts
 
-    def counted(*args: object) -> tuple[int, ...]:
+    def counted(*args: Any) -> tuple[int, ...]:
         result: tuple[int, ...] = impacts(*args)
         returns.append(result[0])
         return result
