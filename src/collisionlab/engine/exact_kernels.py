@@ -1585,10 +1585,11 @@ def run_exact_steps(
                 sep_ev = np.full(2 * count, -1, np.int64)
                 sep_val = np.empty((2 * count, 7))
                 look_seen = np.zeros(2 * count, np.int64)
-            if ht.shape[0] < HEAP_ROOM * count + 2:  # (_heap_compact)
-                ht = np.zeros(2 * HEAP_ROOM * count + 4)
-                hk = np.zeros(2 * HEAP_ROOM * count + 4, np.int64)
-                hv = np.zeros(2 * HEAP_ROOM * count + 4, np.int64)
+            if ht.shape[0] < HEAP_ROOM * count + 2:  # (_heap_compact); empty here: nothing to copy
+                room = max(2 * ht.shape[0], HEAP_ROOM * count + 2)
+                ht = np.zeros(room)
+                hk = np.zeros(room, np.int64)
+                hv = np.zeros(room, np.int64)
             size = _predict_all(
                 kind, pos, vel, acc, tau, ext, ima, s_kind, s_a, s_b, ca, cb, cd, rest, normals, count, ht, hk, hv,
                 t, dt, gap, contact_margin,
