@@ -68,16 +68,20 @@ def test_a_failure_leaves_the_target_as_it_was_and_no_temporary_file(tmp_path: P
     assert target.read_text() == "old" and files_in(tmp_path) == ["keep.txt"]
 
 
+@pytest.mark.parametrize("binary", [False, True])
 @pytest.mark.parametrize("sendfile", [True, False])
 @pytest.mark.parametrize("target_kind", ["file", "memory", "pipe"])
 def test_copy_file_appends_the_whole_source_to_what_was_written(
-    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, target_kind: str, sendfile: bool
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, target_kind: str, sendfile: bool, binary: bool
 ) -> None:
     # Between two files on disk on Linux the kernel copies the bytes (os.sendfile); the stream
     # must then go on writing after them. Into memory or a pipe, or on another system (macOS's
     # sendfile sends to sockets only, Windows has none), the copy goes through Python.
     monkeypatch.setattr(atomic, "_SENDFILE", atomic._SENDFILE and sendfile)
-    text = "événement ☃,\n" * 50_000  # 700 kB, not ASCII
+    # 1.7 MB, not ASCII. A source of bytes (UTF-8) is read a megabyte at a time: a repeat is 17
+    # bytes and its snowman (3 bytes) starts at its 13th, so the snowman of repeat 61,681 starts
+    # at byte 3 + 61,680 * 17 + 12 = 1,048,575 and the first megabyte (1,048,576) ends inside it.
+    text = "abc" + "événement ☃,\n" * 100_000
     received: list[bytes] = []
     if target_kind == "file":
         target: Any = open(tmp_path / "out.txt", "w", encoding="utf-8")  # noqa: SIM115
@@ -88,8 +92,8 @@ def test_copy_file_appends_the_whole_source_to_what_was_written(
         target = open(writer, "w", encoding="utf-8")  # noqa: SIM115
         drain = threading.Thread(target=lambda: received.extend(iter(lambda: os.read(reader, 1 << 16), b"")))
         drain.start()
-    with tempfile.TemporaryFile("w+", encoding="utf-8") as source:
-        source.write(text)
+    with tempfile.TemporaryFile("w+b") if binary else tempfile.TemporaryFile("w+", encoding="utf-8") as source:
+        source.write(text.encode() if binary else text)  # type: ignore[arg-type]
         source.seek(100)  # whatever has been read of it: the whole is copied
         target.write("head ")
         copy_file(source, target)

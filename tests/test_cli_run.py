@@ -367,6 +367,25 @@ def test_a_bad_scenario_leaves_an_existing_output_untouched(tmp_path: Path) -> N
     assert files_in(tmp_path) == ["bad.toml", "out.txt"]
 
 
+def test_a_run_that_fails_midway_leaves_an_existing_output_untouched(tmp_path: Path) -> None:
+    # The output is written, as the run goes, into a temporary file beside the target; a run that
+    # goes out of range after its first frames and bounces (e = 10 between two walls: the speed
+    # grows tenfold at each) must leave the old file as it was and no temporary file.
+    grow = tmp_path / "grow.toml"
+    grow.write_text(
+        "[simulation]\ndt = 0.001\nsteps = 100000\nrestitution = 10\nmode = 'exact'\n"
+        '[[body]]\nname = "ball"\nshape = "sphere"\nposition = [0, 0, 0]\nradius = 0.1\nvelocity = [1, 0, 0]\n'
+        '[[static]]\nname = "l"\nshape = "plane"\npoint = [-1, 0, 0]\nnormal = [1, 0, 0]\n'
+        '[[static]]\nname = "r"\nshape = "plane"\npoint = [1, 0, 0]\nnormal = [-1, 0, 0]\n'
+    )
+    target = tmp_path / "out.json"
+    target.write_text("precious")
+    result = run_cli(["run", str(grow), "--format", "json", "--output", str(target)])
+    assert result.status == 65 and "too large to simulate" in result.err
+    assert target.read_text() == "precious"
+    assert files_in(tmp_path) == ["grow.toml", "out.json"]
+
+
 def test_a_run_interrupted_before_writing_leaves_no_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     import collisionlab.cli.run_command as run_command
 

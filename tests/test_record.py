@@ -153,7 +153,7 @@ def test_event_block_json_is_what_the_json_module_writes(seed: int) -> None:
     _same_json_as_the_json_module(lines, block)
     assert not re.search(r"-0\.0(?![0-9])", "".join(lines))  # signed zeros were written 0.0
     # In pieces, with a separator before each event: the same lines.
-    assert "".join(block.json_chunks(",\n  ", size=7)) == "".join(",\n  " + line for line in lines)
+    assert b"".join(block.json_chunks(",\n  ", size=7)).decode() == "".join(",\n  " + line for line in lines)
 
 
 def test_event_block_json_of_a_nan_or_an_infinity_is_the_json_modules() -> None:
@@ -221,9 +221,9 @@ def test_event_block_json_compiled_is_its_python_form(monkeypatch: pytest.Monkey
     # The lines are laid out by text_kernels.lay_out compiled by numba; the same function run
     # as Python writes the same text.
     block = _block(60, 3)
-    compiled = "".join(block.json_chunks(",\n  ", size=16))
+    compiled = b"".join(block.json_chunks(",\n  ", size=16))
     monkeypatch.setattr(text_kernels, "compiled", lambda: text_kernels.lay_out)
-    assert "".join(block.json_chunks(",\n  ", size=16)) == compiled
+    assert b"".join(block.json_chunks(",\n  ", size=16)) == compiled
 
 
 def test_event_block_builds_events_on_demand() -> None:

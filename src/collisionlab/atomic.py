@@ -10,6 +10,7 @@ never the temporary file.
 
 from __future__ import annotations
 
+import codecs
 import contextlib
 import os
 import shutil
@@ -25,7 +26,6 @@ from .errors import InvalidInputError, escape_controls
 __all__ = [
     "atomic_path",
     "check_target",
-    "copy_atomically",
     "copy_file",
     "write_atomically",
     "write_text_atomically",
@@ -117,13 +117,7 @@ def write_text_atomically(target: str | Path, produce: Callable[[], str]) -> Non
     write_atomically(target, lambda stream: stream.write(text))
 
 
-def copy_atomically(target: str | Path, source: IO[str]) -> None:
-    """Write the whole of ``source`` (a file from its start) to ``target`` atomically, in pieces
-    (a long run's output need not fit in memory), as :func:`write_text_atomically`."""
-    write_atomically(target, lambda stream: copy_file(source, stream))
-
-
-def _regular(stream: IO[str]) -> int | None:
+def _regular(stream: IO[str] | IO[bytes]) -> int | None:
     """The descriptor of ``stream`` if it is a regular file's, else ``None``."""
     try:
         descriptor = stream.fileno()
@@ -137,16 +131,20 @@ def _regular(stream: IO[str]) -> int | None:
 _SENDFILE = hasattr(os, "sendfile") and sys.platform.startswith("linux")
 
 
-def copy_file(source: IO[str], target: IO[str]) -> None:
-    """Write the whole of ``source`` (a file, from its start, whatever has been read of it) at the
-    end of what was written to ``target``. Between two regular files on Linux the kernel copies
-    the bytes (``os.sendfile``: a run's JSON can be hundreds of megabytes, not decoded and
-    encoded again); otherwise (a pipe, a device, a stream in memory, another system) they go
-    through Python, a megabyte at a time."""
+def copy_file(source: IO[str] | IO[bytes], target: IO[str]) -> None:
+    """Write the whole of ``source`` (a file, from its start, whatever has been read of it; text,
+    or UTF-8 bytes) at the end of what was written to ``target``. Between two regular files on
+    Linux the kernel copies the bytes (``os.sendfile``: a run's JSON can be hundreds of
+    megabytes, not decoded and encoded again); otherwise (a pipe, a device, a stream in memory,
+    another system) they go through Python, a megabyte at a time."""
     source_descriptor, target_descriptor = _regular(source), _regular(target)
     if not _SENDFILE or source_descriptor is None or target_descriptor is None:
         source.seek(0)
-        shutil.copyfileobj(source, target, 1 << 20)
+        # Bytes are decoded as they come: a character cut between two pieces waits for the next.
+        decoder = codecs.getincrementaldecoder("utf-8")()
+        for piece in iter(lambda: source.read(1 << 20), source.read(0)):
+            target.write(decoder.decode(piece) if isinstance(piece, bytes) else piece)
+        target.write(decoder.decode(b"", final=True))
         return
     source.flush()
     target.flush()

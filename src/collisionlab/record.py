@@ -368,13 +368,15 @@ class EventBlock(BuiltSequence[CollisionEvent]):
     def json_lines(self) -> list[str]:
         """Each event's JSON (no newline): the text of ``json.dumps(event.to_dict())``, but for
         the numbers' text (:func:`json_numbers`)."""
-        return [line for text in self.json_chunks("\n") for line in text[1:].split("\n")]
+        return [line for text in self.json_chunks("\n") for line in bytes(text[1:]).decode().split("\n")]
 
-    def json_chunks(self, separator: str, size: int = 16384) -> Iterator[str]:
+    def json_chunks(self, separator: str, size: int = 16384) -> Iterator[memoryview]:
         """The JSON of every event (:meth:`json_lines`), each after ``separator``, joined in
         pieces of ``size`` events: the numbers' text written by orjson a block at a time, and
         the lines laid out from it by compiled code (:mod:`collisionlab.text_kernels`), with no
-        loop over the events in Python (a run of a heap of balls makes millions)."""
+        loop over the events in Python (a run of a heap of balls makes millions). Each piece is
+        UTF-8 (the JSON is ASCII: the json module escapes the rest of a name) in a buffer of its
+        own, a view that goes to a binary file as it is, not decoded and encoded again."""
         if not len(self):
             return
         program, literals, literal_bounds, order = _event_program(separator)
@@ -408,7 +410,7 @@ class EventBlock(BuiltSequence[CollisionEvent]):
                 np.frombuffer(text, np.uint8), steps[rows], a, b, flags[rows], names, name_bounds,
                 program, literals, literal_bounds, out, no_values[: len(a)], np.empty(len(a) + 1, np.int64),
             )  # fmt: skip
-            yield out[:written].tobytes().decode()
+            yield out[:written].data
 
 
 @dataclass(frozen=True)

@@ -450,7 +450,7 @@ class JsonWriter:
         self._notify = notify  # hears that the JSON layout kernel compiles (once per machine)
         self._steps = 0
         self._frames = 0
-        self._spools: dict[str, tuple[IO[str], list[int]]] = {}  # each with the pieces written to it
+        self._spools: dict[str, tuple[IO[bytes], list[int]]] = {}  # each with the pieces written to it
 
     def begin(self, record: RunRecord) -> None:
         self._steps = record.steps
@@ -458,7 +458,7 @@ class JsonWriter:
         self._out.write(' "frames": [')
         # Open across calls, closed by end(); a run that fails drops them (already unlinked).
         self._spools = {
-            key: (tempfile.TemporaryFile("w+", encoding="utf-8"), [0])  # noqa: SIM115
+            key: (tempfile.TemporaryFile("w+b"), [0])  # noqa: SIM115 (UTF-8: the pieces come as bytes)
             for key in ("events", "skipped")
         }
 
@@ -477,9 +477,9 @@ class JsonWriter:
             if isinstance(items, EventBlock):  # a world's events: written from their columns
                 _say_compiling(self._notify)
                 self._notify = None
-                chunks: Iterable[str] = items.json_chunks(",\n  ")
+                chunks: Iterable[bytes | memoryview] = items.json_chunks(",\n  ")
             else:
-                chunks = ["".join(",\n  " + _dumps_item(item) for item in items)]
+                chunks = ["".join(",\n  " + _dumps_item(item) for item in items).encode()]
             for text in chunks:
                 spool.write(text if written[0] else text[1:])
                 written[0] += 1

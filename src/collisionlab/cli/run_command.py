@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import shutil
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Any, TextIO, TypeVar
 
 from .. import limits
-from ..atomic import check_target, copy_atomically
+from ..atomic import atomic_path, check_target
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..model import Scenario
@@ -166,7 +167,7 @@ def execute(
     # The writers stream into a temporary file (disk, not memory: a run's frames and events are
     # written as they are produced); it reaches stdout or --output only when every run succeeded,
     # so a failed run prints nothing and leaves no file, and the JSON is always whole.
-    with tempfile.TemporaryFile("w+", encoding="utf-8") as spool:
+    with _spool(args.output) as spool:
         if listed:
             spool.write("[\n")
         for index, scenario in enumerate(scenarios):
@@ -201,14 +202,31 @@ def execute(
                     streams.err(f"warning: {warning}")
         if args.format == "json":
             spool.write("\n]\n" if listed else "\n")
-        spool.seek(0)
-        if args.output is not None:
-            try:
-                copy_atomically(args.output, spool)
-            except OSError as error:
-                shown = escape_controls(args.output)
-                raise CollisionLabError(f"--output: cannot write {shown}: {error.strerror or error}") from None
-            streams.err(f"wrote {args.output}")
-        else:
+        if args.output is None:
+            spool.seek(0)
             shutil.copyfileobj(spool, streams.stdout)
+    if args.output is not None:
+        streams.err(f"wrote {args.output}")
     return 0
+
+
+@contextlib.contextmanager
+def _spool(output: str | None) -> Iterator[TextIO]:
+    """The file the writers write to. With ``--output``: the temporary file beside it that
+    replaces it once every run has succeeded (:func:`~collisionlab.atomic.atomic_path`: on an
+    error or Ctrl-C it is removed and ``output`` is left as it was; a FIFO or a device is written
+    through at the end), so the output is written to disk once. Else an unnamed temporary file,
+    copied to stdout at the end by the caller."""
+    if output is None:
+        with tempfile.TemporaryFile("w+", encoding="utf-8") as spool:
+            yield spool
+        return
+    try:
+        with atomic_path(output) as temporary, open(temporary, "w", encoding="utf-8") as spool:
+            yield spool
+    except OSError as error:
+        if error.filename != output:  # not about the output (atomic_path names it so): as it is
+            raise
+        raise CollisionLabError(
+            f"--output: cannot write {escape_controls(output)}: {error.strerror or error}"
+        ) from None
