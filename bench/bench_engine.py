@@ -81,10 +81,18 @@ seed = 1
 """
 
 
+#: The environment of the commands timed: Python's bytecode is written as on a user's machine
+#: (pip compiles it at install; some sandboxes set PYTHONDONTWRITEBYTECODE, and then every
+#: start compiles ~50 modules again: about 0.15 s of the incline's command).
+USER_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+
+
 def timed(command: list[str], env: dict[str, str] | None = None) -> tuple[float, int, str]:
     """Wall seconds, peak RSS in bytes and stderr of one run of ``command``."""
     start = time.perf_counter()
-    process = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env, cwd=ROOT)
+    process = subprocess.Popen(
+        command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=USER_ENV if env is None else env, cwd=ROOT
+    )
     _, status, usage = os.wait4(process.pid, 0)
     seconds = time.perf_counter() - start
     err = process.stderr.read().decode() if process.stderr else ""
@@ -132,7 +140,9 @@ def gas_memory(runs: int, folder: Path) -> None:
     bare = [timed([sys.executable, "-c", "import collisionlab.engine.world"])[1] for _ in range(runs)]
     peaks, arrays = [], []
     for _ in range(runs):
-        out = subprocess.run([sys.executable, "-c", probe, str(path)], capture_output=True, text=True, check=True)
+        out = subprocess.run(
+            [sys.executable, "-c", probe, str(path)], capture_output=True, text=True, check=True, env=USER_ENV
+        )
         arrays.append(int(out.stdout.strip()) / 100_000)
         peaks.append((timed([sys.executable, "-c", probe, str(path)])[1] - statistics.median(bare)) / 100_000)
     print(f"   engine arrays: {spread(arrays, '{:.0f}')} B/body")
@@ -141,14 +151,11 @@ def gas_memory(runs: int, folder: Path) -> None:
 
 def start_up(runs: int) -> None:
     print("3. collisionlab demo (the lab's four cases)")
-    # Python's bytecode is written as on a user's machine (pip compiles it at install; some
-    # sandboxes set PYTHONDONTWRITEBYTECODE, and then every start compiles ~50 modules again).
-    user = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     cold = []
     for _ in range(runs):
         with tempfile.TemporaryDirectory() as cache:
-            cold.append(timed([*CLI, "demo"], {**user, "NUMBA_CACHE_DIR": cache})[0])
-    warm = [timed([*CLI, "demo"], user)[0] for _ in range(runs)]
+            cold.append(timed([*CLI, "demo"], {**USER_ENV, "NUMBA_CACHE_DIR": cache})[0])
+    warm = [timed([*CLI, "demo"])[0] for _ in range(runs)]
     print(f"   empty compile cache: {spread(cold)} s; warm: {spread(warm)} s")
 
 

@@ -552,6 +552,24 @@ def test_python_dash_m_runs_the_same_command_line(tmp_path: Path) -> None:
     assert '"step": 76' in process.stdout
 
 
+def test_the_console_script_exits_with_mains_status_and_its_objects_frozen(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Python's last collection at exit would walk everything numba left alive (about 0.25 s of a
+    # run's exit); entry_point freezes it all out of that collection first.
+    import gc
+
+    import collisionlab.cli as cli
+
+    monkeypatch.setattr(cli, "main", lambda: 3)
+    gc.unfreeze()
+    try:
+        with pytest.raises(SystemExit) as stop:
+            cli.entry_point()
+        assert stop.value.code == 3
+        assert gc.get_freeze_count() > 0
+    finally:
+        gc.unfreeze()
+
+
 def test_the_console_script_reports_bad_data_with_65_and_no_traceback(tmp_path: Path) -> None:
     bad = tmp_path / "nan.toml"
     bad.write_text('[[body]]\nshape = "sphere"\nposition = [0, nan, 0]\nradius = 1\n')
