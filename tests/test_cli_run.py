@@ -6,6 +6,7 @@ values worked by hand, the options, exit statuses, atomic ``--output`` and the r
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import json
 import math
@@ -384,6 +385,62 @@ def test_a_run_that_fails_midway_leaves_an_existing_output_untouched(tmp_path: P
     assert result.status == 65 and "too large to simulate" in result.err
     assert target.read_text() == "precious"
     assert files_in(tmp_path) == ["grow.toml", "out.json"]
+
+
+_PILE = """
+[simulation]
+title = "a pile on a slope"
+dt = 0.002
+steps = 400
+restitution = 0.5
+gravity = [0, -9.81, 0]
+mode = "{mode}"
+
+[[gas]]
+name = "ball"
+shape = "sphere"
+radius = 0.05
+region = [[-1, 0.3, -1], [1, 1.0, 1]]
+count = 600
+kT = 0.01
+seed = 3
+
+[[static]]
+name = "slope"
+shape = "plane"
+point = [0, 0, 0]
+normal = [0.2, 1, 0]
+"""
+
+
+@pytest.mark.parametrize("mode", ["euler", "exact"])
+@pytest.mark.parametrize("fmt", ["table", "json", "csv"])
+def test_a_compiled_runs_writer_works_beside_it_and_writes_the_same_bytes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, mode: str, fmt: str
+) -> None:
+    # 600 bodies x 400 steps: compiled kernels, so the writer runs in a thread of its own
+    # (cli.background); made in the caller's thread instead, every call in the same order, the
+    # output must be the same to the byte (events, frames, warnings, summary).
+    import collisionlab.cli.run_command as run_command
+
+    path = tmp_path / "pile.toml"
+    path.write_text(_PILE.format(mode=mode))
+    argv = ["run", str(path), "--every", "100", "--format", fmt]
+    made: list[object] = []
+    real = run_command.BackgroundObserver
+
+    def noted(writer: object) -> object:
+        made.append(writer)
+        return real(writer)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(run_command, "BackgroundObserver", noted)
+    beside = run_cli(argv)
+    assert beside.status == 0 and len(made) == 1, beside.err
+    monkeypatch.setattr(run_command, "BackgroundObserver", contextlib.nullcontext)
+    inline = run_cli(argv)
+    assert inline.status == 0 and len(made) == 1
+    assert beside.out == inline.out and beside.err == inline.err
+    assert beside.out.count("ball") > 600  # frames and collisions were written
 
 
 def test_a_run_interrupted_before_writing_leaves_no_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

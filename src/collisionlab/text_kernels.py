@@ -201,6 +201,6 @@ def compiled() -> Callable[..., int]:
         use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
         import numba
 
-        jitted: Any = numba.njit(cache=True)(lay_out)
+        jitted: Any = numba.njit(cache=True, nogil=True)(lay_out)  # (the writers' thread: see cli.background)
         _compiled.append(jitted)
     return _compiled[0]

@@ -15,10 +15,11 @@ from ..atomic import atomic_path, check_target
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..model import Scenario
-from ..record import RunRecord
+from ..record import RunObserver, RunRecord
 from ..scenario_file import load_scenario
 from ..validate import whole_number
 from ..world import World
+from .background import BackgroundObserver
 from .interrupts import between_chunks, deferred_interrupts
 from .progress import ProgressBar
 from .render import writer_for
@@ -187,11 +188,15 @@ def execute(
             try:
                 # Only pictures need the whole record; the output is written as the run goes.
                 world = World(scenario, notify=streams.err)
-                # A signal is looked at between chunks of steps: raised inside a compiled call it
-                # would surface as "SystemError: CPUDispatcher returned a result with an exception set".
-                with deferred_interrupts() as pending:
+                with contextlib.ExitStack() as stack:
+                    observer: RunObserver = writer
+                    if world.compiled:  # its kernels run without the GIL: the writer works beside them
+                        observer = stack.enter_context(BackgroundObserver(writer))
+                    # A signal is looked at between chunks of steps: raised inside a compiled call it
+                    # would surface as "SystemError: CPUDispatcher returned a result with an exception set".
+                    pending = stack.enter_context(deferred_interrupts())
                     progress = between_chunks(pending, bar)
-                    record = world.run(every=args.every, progress=progress, observer=writer, keep=pictures)
+                    record = world.run(every=args.every, progress=progress, observer=observer, keep=pictures)
             except OutOfRangeError as error:
                 raise error.within(sources[index]) if sources else error from None
             finally:

@@ -10,10 +10,13 @@ A kernel file may name helpers to inline into their callers (``INLINE``) and fun
 compile without numba's reference counts (``NO_REFCOUNT``: they allocate nothing). numba takes and
 gives back a count on every array an inlined helper is passed, atomically, and its pruning leaves
 them in loops; the exact stepper's phases run as such functions (bench/README.md measures it).
+Every kernel releases the GIL while it runs (``nogil``): the output writers then format what the
+last chunk of steps produced, in a thread of their own, while the next chunk runs.
 
 numba keys each cached function on its own source file only, but the stepper's machine code
-contains the geometry kernels it calls: :func:`_forget_stale` drops the stepper's cache when the
-geometry file changed since it was written, so an edit there can never run stale code.
+contains the geometry kernels it calls, and the options above (this file) change it too:
+:func:`_forget_stale` drops a kernel file's cache when a file it calls, or this one, changed
+since it was written, so an edit there can never run stale code.
 """
 
 from __future__ import annotations
@@ -50,7 +53,7 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     for attribute, value in list(vars(module).items()):
         if isinstance(value, types.FunctionType) and value.__module__ == qualified:
             # error_model="numpy": no Python exception check in every division (none can raise).
-            options: dict[str, Any] = {"cache": True, "error_model": "numpy"}
+            options: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True}
             if attribute in inline:
                 options["inline"] = "always"
             if attribute in no_refcount:
@@ -60,14 +63,19 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
 
 
 #: Each kernel file and the files whose code its machine code contains.
-_CALLS = {"step_kernels": ("geometry_kernels",), "exact_kernels": ("geometry_kernels", "step_kernels")}
+_CALLS = {
+    "geometry_kernels": (),
+    "step_kernels": ("geometry_kernels",),
+    "exact_kernels": ("geometry_kernels", "step_kernels"),
+}
 
 
 def _forget_stale() -> None:
-    """Remove a kernel file's cached code if a file it calls is newer than it."""
+    """Remove a kernel file's cached code if a file it calls, or this one (the options it is
+    compiled with), is newer than it."""
     for stem, callees in _CALLS.items():
         sources = [_HERE / f"{callee}.py" for callee in callees]
-        sources += [_HERE.parent / "tolerances.py", _HERE.parent / "limits.py"]
+        sources += [_HERE.parent / "tolerances.py", _HERE.parent / "limits.py", Path(__file__)]
         forget_stale(_HERE, [stem], sources)
 
 
