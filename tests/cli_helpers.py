@@ -31,6 +31,33 @@ SCRIPT = Path(sys.executable).with_name("collisionlab")
 COLLISION_LINE = re.compile(r"^collision at step (\d+) \(t = (\d+\.\d{3}) s\): (.+)$")
 
 
+#: 600 spheres falling on a tilted plane: enough body-steps (x 400 steps) for compiled kernels.
+PILE_ON_A_SLOPE = """
+[simulation]
+title = "a pile on a slope"
+dt = 0.002
+steps = {steps}
+restitution = 0.5
+gravity = [0, -9.81, 0]
+mode = "{mode}"
+
+[[gas]]
+name = "ball"
+shape = "sphere"
+radius = 0.05
+region = [[-1, 0.3, -1], [1, 1.0, 1]]
+count = 600
+kT = 0.01
+seed = 3
+
+[[static]]
+name = "slope"
+shape = "plane"
+point = [0, 0, 0]
+normal = [0.2, 1, 0]
+"""
+
+
 @dataclass
 class Result:
     status: int

@@ -10,6 +10,7 @@ from typing import Any
 import pytest
 
 from collisionlab.cli.background import DEPTH, BackgroundObserver
+from tests.cli_helpers import PILE_ON_A_SLOPE
 
 
 class Recorder:
@@ -125,30 +126,6 @@ def test_leaving_early_drops_the_waiting_calls_and_joins_the_thread() -> None:
     assert _writer_threads() == []
 
 
-_PILE = """
-[simulation]
-dt = 0.002
-steps = 100
-gravity = [0, -9.81, 0]
-mode = "{mode}"
-
-[[gas]]
-name = "ball"
-shape = "sphere"
-radius = 0.05
-region = [[-1, 0.3, -1], [1, 1.0, 1]]
-count = 600
-kT = 0.01
-seed = 3
-
-[[static]]
-name = "slope"
-shape = "plane"
-point = [0, 0, 0]
-normal = [0.2, 1, 0]
-"""
-
-
 @pytest.mark.parametrize("mode", ["euler", "exact"])
 def test_the_compiled_kernels_let_the_writers_thread_run_meanwhile(tmp_path: Path, mode: str) -> None:
     # The overlap rests on the kernels releasing the GIL (compiled with nogil): another Python
@@ -159,7 +136,7 @@ def test_the_compiled_kernels_let_the_writers_thread_run_meanwhile(tmp_path: Pat
     from collisionlab.scenario_file import load_scenario
 
     path = tmp_path / "pile.toml"
-    path.write_text(_PILE.format(mode=mode))
+    path.write_text(PILE_ON_A_SLOPE.format(mode=mode, steps=100))
     world = World(load_scenario(str(path)), WorldParams(compiled=True))
     world.step(1)  # compiled or loaded before the look
     ticks: list[float] = []

@@ -23,7 +23,17 @@ import pytest
 
 from collisionlab.cli import Streams, main
 from collisionlab.demos import LAB_DEMOS, demo_names
-from tests.cli_helpers import EXAMPLE_NAMES, SCRIPT, example, files_in, finish, on_a_terminal, read_until, run_cli
+from tests.cli_helpers import (
+    EXAMPLE_NAMES,
+    PILE_ON_A_SLOPE,
+    SCRIPT,
+    example,
+    files_in,
+    finish,
+    on_a_terminal,
+    read_until,
+    run_cli,
+)
 
 
 def events(name: str, *options: str) -> list[dict[str, Any]]:
@@ -389,32 +399,6 @@ def test_a_run_that_fails_midway_leaves_an_existing_output_untouched(tmp_path: P
     assert files_in(tmp_path) == ["grow.toml", "out.json"]
 
 
-_PILE = """
-[simulation]
-title = "a pile on a slope"
-dt = 0.002
-steps = 400
-restitution = 0.5
-gravity = [0, -9.81, 0]
-mode = "{mode}"
-
-[[gas]]
-name = "ball"
-shape = "sphere"
-radius = 0.05
-region = [[-1, 0.3, -1], [1, 1.0, 1]]
-count = 600
-kT = 0.01
-seed = 3
-
-[[static]]
-name = "slope"
-shape = "plane"
-point = [0, 0, 0]
-normal = [0.2, 1, 0]
-"""
-
-
 @pytest.mark.parametrize("mode", ["euler", "exact"])
 @pytest.mark.parametrize("fmt", ["table", "json", "csv"])
 def test_a_compiled_runs_writer_works_beside_it_and_writes_the_same_bytes(
@@ -426,7 +410,7 @@ def test_a_compiled_runs_writer_works_beside_it_and_writes_the_same_bytes(
     import collisionlab.cli.run_command as run_command
 
     path = tmp_path / "pile.toml"
-    path.write_text(_PILE.format(mode=mode))
+    path.write_text(PILE_ON_A_SLOPE.format(mode=mode, steps=400))
     argv = ["run", str(path), "--every", "100", "--format", fmt]
     made: list[object] = []
     real = run_command.BackgroundObserver
