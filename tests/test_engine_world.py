@@ -312,3 +312,31 @@ def test_the_ledger_does_not_depend_on_how_the_run_is_split_into_calls(mode: str
         pieces.step(count)
     assert whole.record.ledger == pieces.record.ledger
     assert whole.record.ledger.collisions < 0.0 and whole.record.collision_total > 50
+
+
+def test_a_compiled_world_loads_its_kernels_with_the_collector_paused(monkeypatch: pytest.MonkeyPatch) -> None:
+    """numba's import and its loading of cached code run with Python's collector paused (it would
+    walk their objects several times over); the collector is on again afterwards."""
+    import gc
+
+    from collisionlab.engine import exact_stepper, stepper
+
+    seen: list[tuple[str, bool]] = []
+    for module, cls in ((stepper, stepper.EulerStepper), (exact_stepper, exact_stepper.ExactStepper)):
+        advance = cls.advance
+
+        def spy(self: object, *args: object, _advance: object = advance, _name: str = cls.__name__) -> None:
+            seen.append((_name, gc.isenabled()))
+            _advance(self, *args)  # type: ignore[operator]
+
+        monkeypatch.setattr(cls, "advance", spy)
+    ball = Body("ball", Sphere((0, 1, 0), 0.5), velocity=(0, -1, 0))
+    for mode in ("euler", "exact"):
+        scenario = Scenario(Settings(dt=0.01, steps=3, mode=mode), (ball,), ())
+        world = World(scenario, WorldParams(compiled=True))
+        world.step(1)
+        world.step(1)
+        world.step(1)
+        assert gc.isenabled()
+    # The first call of each stepper's compiled kernels with the collector paused, later ones not.
+    assert [enabled for _, enabled in seen] == [False, True, True, False, True, True]

@@ -78,3 +78,18 @@ def test_cache_files_finds_what_numba_wrote(tmp_path: Path, monkeypatch: pytest.
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(cache))
     found = sorted(f.suffix for f in numba_cache.cache_files(package))
     assert found == [".nbc", ".nbi"]
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_gc_paused_leaves_the_collector_as_it_found_it(enabled: bool) -> None:
+    import gc
+
+    was = gc.isenabled()
+    (gc.enable if enabled else gc.disable)()
+    try:
+        with pytest.raises(RuntimeError), numba_cache.gc_paused():
+            assert not gc.isenabled()
+            raise RuntimeError("a failed load")
+        assert gc.isenabled() is enabled
+    finally:
+        (gc.enable if was else gc.disable)()

@@ -7,13 +7,15 @@ run before the first ``import numba``; a folder the user set is kept.
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import hashlib
 import os
 import sys
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-__all__ = ["cache_files", "forget_stale", "numba_cache_dir", "use_user_cache"]
+__all__ = ["cache_files", "forget_stale", "gc_paused", "numba_cache_dir", "use_user_cache"]
 
 
 def numba_cache_dir() -> Path:
@@ -66,3 +68,25 @@ def forget_stale(package: Path, stems: Iterable[str], sources: Iterable[Path]) -
     if written and min(written.values()) < max(s.stat().st_mtime for s in sources):
         for f in written:
             f.unlink(missing_ok=True)
+
+
+@contextlib.contextmanager
+def gc_paused() -> Iterator[None]:
+    """No cyclic garbage collection inside the block (enabled again after it, if it was). For
+    numba's import and the first call of a kernel, when numba loads its cached code: they make
+    hundreds of thousands of objects that live until the process ends, and Python's collector
+    would walk them all, several times over, while they are made (bench/README.md).
+
+    >>> with gc_paused():
+    ...     gc.isenabled()
+    False
+    >>> gc.isenabled()
+    True
+    """
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()

@@ -19,9 +19,11 @@ scenario says ``allow_initial_overlap``: then the first step resolves them and a
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 from collections.abc import Callable
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -29,6 +31,7 @@ import numpy as np
 from .. import limits
 from ..errors import InvalidInputError
 from ..model import Scenario
+from ..numba_cache import gc_paused
 from ..record import EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import exact_kernels, step_kernels
@@ -98,6 +101,7 @@ class World:
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
         self._kernels: dict[bool, Any] = {}
+        self._called: set[ModuleType] = set()  # kernels called once already (numba has loaded them)
         #: Where :meth:`run` sends what happens, and whether the record keeps it too.
         self._observer: RunObserver | None = None
         self._keep = True
@@ -245,8 +249,9 @@ class World:
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
         large = self._bodies.n * max(1, self._statics.m) > COMPILE_ABOVE // 100
-        kernels = self._compiled_kernels(exact=False) if large else step_kernels
-        return near_pairs(kernels, self._bodies, self._statics, self.dims, self.params, margin)
+        with gc_paused() if large else contextlib.nullcontext():  # numba's import and load
+            kernels = self._compiled_kernels(exact=False) if large else step_kernels
+            return near_pairs(kernels, self._bodies, self._statics, self.dims, self.params, margin)
 
     def _pair_names(self, a: int, b: int) -> tuple[str, str]:
         return (self._static_names[-1 - a] if a < 0 else self._names[a], self._names[b])
@@ -322,7 +327,8 @@ class World:
             if not compiled.is_cached(exact) and self._notify is not None:
                 took = "a few minutes" if exact else "about a minute"  # on 2 cores (bench/README.md)
                 self._notify(f"compiling the engine's kernels (once per machine; {took})...")
-            self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
+            with gc_paused():  # numba's import, its registries
+                self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
         return self._kernels[exact]
 
     def step(self, steps: int = 1) -> None:
@@ -370,7 +376,11 @@ class World:
         """Advance ``steps`` steps with the stepper and ``kernels`` (its Python or compiled form)
         and take the ledger's sums and the events."""
         settings = self.scenario.settings
-        self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
+        first = kernels is not None and kernels not in self._called  # numba loads a compiled kernel now
+        with gc_paused() if first else contextlib.nullcontext():
+            self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
+        if kernels is not None:
+            self._called.add(kernels)
         self.step_index += steps
         self.time = self.step_index * settings.dt
         # The stepper's running totals: summed in event order whatever the chunks, so a run's
