@@ -322,7 +322,7 @@ def test_a_compiled_world_loads_its_kernels_with_the_collector_paused(monkeypatc
     from collisionlab.engine import exact_stepper, stepper
 
     seen: list[tuple[str, bool]] = []
-    for module, cls in ((stepper, stepper.EulerStepper), (exact_stepper, exact_stepper.ExactStepper)):
+    for cls in (stepper.EulerStepper, exact_stepper.ExactStepper):
         advance = cls.advance
 
         def spy(self: object, *args: object, _advance: object = advance, _name: str = cls.__name__) -> None:
