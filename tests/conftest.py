@@ -21,9 +21,9 @@ def _compiled_engine() -> None:
     """Compile the engine's kernels (or load numba's cache) once, before any test: a test that
     waits for a program's output must not wait for the compiler instead. All three steppers:
     Forward Euler, exact, event-driven, the particle kernels, and the kernel that lays out the
-    JSON of a world's collisions (a bouncing ball's run written as JSON). Under pytest-xdist, odd
-    workers take them in the opposite order: two workers compile different kernels at once,
-    and each then loads the other's from numba's cache (its writes are atomic)."""
+    JSON of a world's collisions (a bouncing ball's run written as JSON). Under pytest-xdist, two
+    workers compile different kernels at once, and each then loads the other's from numba's
+    cache (its writes are atomic)."""
     from collisionlab.cli.render import JsonWriter
     from collisionlab.demos import load_demo
     from collisionlab.edmd.observables import ExactGas
@@ -44,8 +44,9 @@ def _compiled_engine() -> None:
         world = World(load_demo("bouncing-ball").with_settings(mode="euler"), WorldParams(compiled=True))
         world.run(observer=JsonWriter(io.StringIO()), keep=False)
 
-    order = [warm_up, euler, exact, event_driven, json_lines]
-    if int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0) % 2:
-        order.reverse()
-    for compile_or_load in order:
+    # The exact kernel is the long compile: even workers start with it, odd ones end with it and
+    # wait for it (numba_cache.compile_lock), then load it, having compiled the others meanwhile.
+    others = [warm_up, euler, json_lines, event_driven]
+    odd = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0) % 2
+    for compile_or_load in [*others, exact] if odd else [exact, *others]:
         compile_or_load()

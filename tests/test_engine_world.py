@@ -7,6 +7,7 @@ import itertools
 import math
 import re
 import tomllib
+from collections.abc import Iterator
 
 import jsonschema
 import numpy as np
@@ -340,3 +341,29 @@ def test_a_compiled_world_loads_its_kernels_with_the_collector_paused(monkeypatc
         assert gc.isenabled()
     # The first call of each stepper's compiled kernels with the collector paused, later ones not.
     assert [enabled for _, enabled in seen] == [False, True, True, False, True, True]
+
+
+@pytest.mark.parametrize("cached", [True, False])
+def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytest.MonkeyPatch, cached: bool) -> None:
+    """Kernels not in numba's cache yet are compiled under a lock another process would wait on
+    (numba_cache.compile_lock), once per world and kernel; cached ones are loaded unlocked."""
+    import contextlib
+
+    from collisionlab.engine import compiled
+    from collisionlab.engine import world as world_module
+
+    locked: list[str] = []
+
+    @contextlib.contextmanager
+    def spy(package: object, stem: str) -> Iterator[None]:
+        locked.append(stem)
+        yield
+
+    monkeypatch.setattr(compiled, "is_cached", lambda exact=False: cached)
+    monkeypatch.setattr(world_module, "compile_lock", spy)
+    ball = Body("ball", Sphere((0, 1, 0), 0.5), velocity=(0, -1, 0))
+    for mode in ("euler", "exact"):
+        world = World(Scenario(Settings(dt=0.01, steps=3, mode=mode), (ball,), ()), WorldParams(compiled=True))
+        world.step(1)
+        world.step(2)
+    assert locked == ([] if cached else ["step_kernels", "exact_kernels"])

@@ -93,3 +93,49 @@ def test_gc_paused_leaves_the_collector_as_it_found_it(enabled: bool) -> None:
         assert gc.isenabled() is enabled
     finally:
         (gc.enable if was else gc.disable)()
+
+
+_HOLDER = """
+import sys, time
+from pathlib import Path
+from collisionlab import numba_cache
+with numba_cache.compile_lock(Path(sys.argv[1]), "step"):
+    print("held", flush=True)
+    time.sleep(0.5)  # the other process asks for the lock meanwhile
+    Path(sys.argv[2]).write_text("done")  # written while the lock is still held
+"""
+
+
+def test_a_second_process_waits_for_the_compile_lock_then_goes_on(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Two processes wanting the same uncached kernels: the second waits until the first has
+    finished (it then loads what the first cached) instead of compiling them beside it."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "cache"))
+    package = tmp_path / "kernels"
+    package.mkdir()
+    marker = tmp_path / "marker"
+    holder = subprocess.Popen(
+        [sys.executable, "-c", _HOLDER, str(package), str(marker)], stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        with numba_cache.compile_lock(package, "step"):
+            assert marker.read_text() == "done"  # the holder's block ran to its end first
+    finally:
+        holder.wait()
+    assert holder.returncode == 0
+    with numba_cache.compile_lock(package, "exact"):  # another file's lock: not held by anyone
+        pass
+
+
+def test_the_compile_lock_is_skipped_where_no_lock_file_can_be_made(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("x")
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(blocker))  # its folder cannot be made
+    ran = []
+    with numba_cache.compile_lock(tmp_path, "step"):
+        ran.append(True)
+    assert ran == [True]

@@ -15,7 +15,7 @@ import sys
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
-__all__ = ["cache_files", "forget_stale", "gc_paused", "numba_cache_dir", "use_user_cache"]
+__all__ = ["cache_files", "compile_lock", "forget_stale", "gc_paused", "numba_cache_dir", "use_user_cache"]
 
 
 def numba_cache_dir() -> Path:
@@ -41,11 +41,16 @@ def cache_files(package: Path) -> list[Path]:
     in ``NUMBA_CACHE_DIR``, in a folder named after the source folder and a hash of its path, or
     in ``__pycache__`` beside the sources when no cache folder is set)."""
     package = package.resolve()
-    folders = [package / "__pycache__"]
-    if os.environ.get("NUMBA_CACHE_DIR"):
-        digest = hashlib.sha1(str(package).encode()).hexdigest()
-        folders.append(Path(os.environ["NUMBA_CACHE_DIR"]) / f"{package.name}_{digest}")
-    return [f for folder in folders if folder.exists() for f in folder.glob("*.nb[ic]")]
+    folders = [package / "__pycache__", _cache_folder(package)]
+    return [f for folder in dict.fromkeys(folders) if folder.exists() for f in folder.glob("*.nb[ic]")]
+
+
+def _cache_folder(package: Path) -> Path:
+    """The folder numba writes the cached code of the resolved folder ``package`` to."""
+    if not os.environ.get("NUMBA_CACHE_DIR"):
+        return package / "__pycache__"
+    digest = hashlib.sha1(str(package).encode()).hexdigest()
+    return Path(os.environ["NUMBA_CACHE_DIR"]) / f"{package.name}_{digest}"
 
 
 def forget_stale(package: Path, stems: Iterable[str], sources: Iterable[Path]) -> None:
@@ -90,3 +95,32 @@ def gc_paused() -> Iterator[None]:
     finally:
         if enabled:
             gc.enable()
+
+
+@contextlib.contextmanager
+def compile_lock(package: Path, stem: str) -> Iterator[None]:
+    """Held while this process compiles the kernels of ``package``'s file ``stem``: another
+    process that wants them at the same time (pytest-xdist workers, a sweep's workers, two runs
+    started together) waits here, then loads what the first one cached instead of compiling the
+    same code beside it. The lock is a file beside numba's cache (``flock``: the system drops it
+    when its holder ends, however it ends). Where no lock can be taken (no ``fcntl`` on Windows,
+    a cache folder that cannot be written), the block runs unlocked, as without this."""
+    try:
+        import fcntl
+    except ImportError:
+        fcntl = None  # type: ignore[assignment]
+    folder = _cache_folder(package.resolve())
+    handle = None
+    if fcntl is not None:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            handle = open(folder / f"{stem}.compiling.lock", "ab")  # noqa: SIM115 (closed below)
+        except OSError:
+            handle = None
+    try:
+        if handle is not None:
+            fcntl.flock(handle, fcntl.LOCK_EX)  # waits while another process holds it
+        yield
+    finally:
+        if handle is not None:
+            handle.close()  # releases the lock

@@ -23,6 +23,7 @@ import contextlib
 import math
 import time
 from collections.abc import Callable
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -31,7 +32,7 @@ import numpy as np
 from .. import limits
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..numba_cache import gc_paused
+from ..numba_cache import compile_lock, gc_paused
 from ..record import EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import exact_kernels, step_kernels
@@ -101,7 +102,8 @@ class World:
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
         self._kernels: dict[bool, Any] = {}
-        self._called: set[ModuleType] = set()  # kernels called once already (numba has loaded them)
+        self._called: set[str] = set()  # compiled kernels called once already (numba has loaded them)
+        self._uncached: set[bool] = set()  # compiled kernels (exact or not) not in numba's cache yet
         #: Where :meth:`run` sends what happens, and whether the record keeps it too.
         self._observer: RunObserver | None = None
         self._keep = True
@@ -249,8 +251,8 @@ class World:
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
         large = self._bodies.n * max(1, self._statics.m) > COMPILE_ABOVE // 100
-        with gc_paused() if large else contextlib.nullcontext():  # numba's import and load
-            kernels = self._compiled_kernels(exact=False) if large else step_kernels
+        kernels = self._compiled_kernels(exact=False) if large else step_kernels
+        with self._first_call(kernels, "find_near"):
             return near_pairs(kernels, self._bodies, self._statics, self.dims, self.params, margin)
 
     def _pair_names(self, a: int, b: int) -> tuple[str, str]:
@@ -324,12 +326,31 @@ class World:
 
         exact = exact and self._exact
         if exact not in self._kernels:
-            if not compiled.is_cached(exact) and self._notify is not None:
-                took = "a few minutes" if exact else "about a minute"  # on 2 cores (bench/README.md)
-                self._notify(f"compiling the engine's kernels (once per machine; {took})...")
+            if not compiled.is_cached(exact):
+                self._uncached.add(exact)
+                if self._notify is not None:
+                    took = "a few minutes" if exact else "about a minute"  # on 2 cores (bench/README.md)
+                    self._notify(f"compiling the engine's kernels (once per machine; {took})...")
             with gc_paused():  # numba's import, its registries
                 self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
         return self._kernels[exact]
+
+    def _first_call(self, kernels: ModuleType, entry: str) -> contextlib.AbstractContextManager[Any]:
+        """What surrounds the first call of a compiled kernel module's ``entry``, when numba
+        loads its code from the cache, or compiles it: Python's collector paused (numba makes
+        objects that live until exit: :func:`~collisionlab.numba_cache.gc_paused`) and, if it
+        compiles, a lock that makes another process wanting the same kernels wait and then load
+        them rather than compile them too (:func:`~collisionlab.numba_cache.compile_lock`)."""
+        key = f"{kernels.__name__}.{entry}"
+        if "._compiled_" not in key or key in self._called:
+            return contextlib.nullcontext()
+        self._called.add(key)
+        stem = kernels.__name__.rpartition("._compiled_")[2]
+        stack = contextlib.ExitStack()
+        if (stem == "exact_kernels") in self._uncached:
+            stack.enter_context(compile_lock(Path(kernels.__file__ or ".").parent, stem))
+        stack.enter_context(gc_paused())
+        return stack
 
     def step(self, steps: int = 1) -> None:
         """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
@@ -376,11 +397,8 @@ class World:
         """Advance ``steps`` steps with the stepper and ``kernels`` (its Python or compiled form)
         and take the ledger's sums and the events."""
         settings = self.scenario.settings
-        first = kernels is not None and kernels not in self._called  # numba loads a compiled kernel now
-        with gc_paused() if first else contextlib.nullcontext():
+        with contextlib.nullcontext() if kernels is None else self._first_call(kernels, "run"):
             self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
-        if kernels is not None:
-            self._called.add(kernels)
         self.step_index += steps
         self.time = self.step_index * settings.dt
         # The stepper's running totals: summed in event order whatever the chunks, so a run's
