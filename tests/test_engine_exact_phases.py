@@ -163,3 +163,36 @@ def test_a_run_is_the_same_when_the_events_buffer_has_only_just_room(monkeypatch
     assert roomy[2].shape[0] > 100  # events enough to matter
     for a, b in zip(roomy, tight, strict=True):
         assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("compiled_form", [False, True])
+def test_a_body_kicked_past_its_own_sweep_has_the_candidates_listed_again(compiled_form: bool) -> None:
+    """Each body is listed for its own speed bound (SWEEP_GROWTH times its speed relative to the
+    frame of the middle velocity, at least SWEEP_FLOOR of the fastest's). A kick past it cuts the
+    step and lists again, or a pair it reaches would be missed.
+
+    Along x, radius 0.5, e = 1, dt = 0.01, no gravity: A (x = 0, v = 10) hits B (x = 1.001)
+    at t1 = 0.001 / 10 = 1e-4; B touches C (x = 2.001), which takes the impulse on: C leaves at
+    10. D (x = 3.111, v = -2) is 0.11 from C. A far body E (v = -10) puts the frame at v = 0,
+    so U = 10: C and D are listed for max(0.5 U, 2 |v|) = 5 each, a sweep of 0.05 + 0.05 = 0.1
+    in the step, under their 0.11. C then closes on D at 12: at t1 D is 0.11 - 2 t1 = 0.1098
+    away, met at t1 + 0.1098 / 12 = 0.00925, inside the first step."""
+    from collisionlab import Sphere
+    from collisionlab.model import Body, Scenario, Settings
+
+    def ball(name: str, x: float, v: float) -> Body:
+        return Body(name, Sphere((x, 0, 0), 0.5), velocity=(v, 0, 0))
+
+    bodies = (ball("A", 0.0, 10.0), ball("B", 1.001, 0.0), ball("C", 2.001, 0.0), ball("D", 3.111, -2.0))
+    scenario = Scenario(
+        Settings(dt=0.01, steps=1, restitution=1.0, mode="exact"), (*bodies, ball("E", 100.0, -10.0)), ()
+    )
+    world = World(scenario, WorldParams(compiled=compiled_form))
+    record = world.run()
+    hits = {tuple(e.bodies): e.time for e in record.events}
+    t1 = 0.001 / 10.0
+    assert hits[("A", "B")] == pytest.approx(t1, abs=1e-12)
+    assert hits[("C", "D")] == pytest.approx(t1 + (0.11 - 2.0 * t1) / 12.0, abs=1e-9)
+    status = world._stepper.status  # type: ignore[union-attr]
+    assert status[2] >= 1  # the step was cut and the candidates listed again
+    assert status[3] == 1 + exact_kernels.SWEEP_PAUSE  # and every body has the widest sweep for a while

@@ -6,13 +6,15 @@ gravity, a line without), so an impact is found at its time, never after it, and
 One step of ``dt``, in this fixed order:
 
 1. **Candidates.** The state is sorted by cell (the Forward Euler stepper's grid) and every pair
-   that can meet before the step ends is listed: pairs closer than ``contact_margin + 2 s``,
-   where ``s = u_max T + a_max T^2 / 2`` bounds how far any body can move in the ``T`` left
-   relative to a frame moving at a constant velocity (the middle of the bodies' velocities, so
-   ``u_max`` is small for a heap sliding as one), and a body and a static closer than
+   that can meet before the step ends is listed: bodies ``a``, ``b`` closer than
+   ``contact_margin + s_a + s_b``, where ``s_i = u_i T + a_max T^2 / 2`` bounds how far body
+   ``i`` can move in the ``T`` left relative to a frame moving at a constant velocity (the
+   middle of the bodies' velocities, so speeds are small for a heap sliding as one), ``u_i``
+   being the bound it is listed for (``SWEEP_GROWTH`` times its speed in that frame, at least
+   ``SWEEP_FLOOR`` of the fastest's, at most that), and a body and a static closer than
    ``contact_margin + v_max T + a_max T^2 / 2`` (``a_max`` is taken as
-   ``ACCELERATION_HEADROOM |g|``; if phase 2 leaves a body faster or more accelerated than the
-   bounds, the candidates are listed again with the larger ones).
+   ``ACCELERATION_HEADROOM |g|``; if phase 2 leaves a body faster than its bound or more
+   accelerated than ``a_max``, the candidates are listed again with the larger ones).
 2. **Resting contacts** (with gravity): a pair in contact (within ``contact_margin``) whose
    normal speed is below ``rest_speed`` and whose accelerations press it together rests: a slow
    approach or lift-off is stopped (no event), and the support cancels the pressing part of the
@@ -37,8 +39,8 @@ One step of ``dt``, in this fixed order:
    reaching it within the ``T`` left: a row of touching balls passes the impact along; a slower
    approach cannot touch within the step and is left to the predictions and to phase 2 of the
    next step), and the kicked bodies' pairs are predicted again. A kicked body that rested is
-   looked at again (it may lift off); if a kick makes a body faster than the candidates allowed
-   for, the step is cut there and the candidates are listed again.
+   looked at again (it may lift off); if a kick makes a body faster than its bound (or ``v_max``),
+   the step is cut there and the candidates are listed again.
 5. **End of the step**: every body is brought to its end, overlaps left by rounding are pushed
    apart to ``slop`` (as in Forward Euler: a pass after the first looks only at the pairs one of
    whose bodies moved) and the pairs in contact are remembered, so a pair is reported once per
@@ -83,6 +85,16 @@ MAX_SUPPORTS = 3
 #: above it), so a body's acceleration may exceed ``|g|``; listing for more makes a second listing
 #: (when phase 2 finds a larger one) rare, at the cost of a sweep wider by ``|g| T^2 / 2``.
 ACCELERATION_HEADROOM = 2.0
+#: Each body's candidates are listed for a speed (relative to the heap's frame) up to this many
+#: times its own, and at least ``SWEEP_FLOOR`` of the fastest body's (never more than that):
+#: a body kicked past its bound has the candidates listed again (phase 4's restart), so the
+#: bounds trade the sweep's width (candidates to predict and look at again) against restarts.
+SWEEP_GROWTH = 2.0
+SWEEP_FLOOR = 0.5
+#: After a step cut by a kick past a body's own bound, this many steps list every body for the
+#: fastest's speed (as if ``SWEEP_FLOOR`` were 1): while bodies land on others, a restart (a
+#: listing more) would follow in most steps, costing more than the narrower sweeps save.
+SWEEP_PAUSE = 50
 #: The heap has room for this many entries per candidate pair (and 2 more): twice the most that
 #: can be current (a pair's prediction and its rest's expiry), so a full heap compacts to at most
 #: half (:func:`_heap_compact`) and no push inside phase 4 allocates.
@@ -93,8 +105,10 @@ DONE = 0
 RESTART = 1
 ROOM = 2
 #: Counters returned to the world: steps that hit MAX_IMPACTS_PER_STEP, impacts resolved, times
-#: the candidates had to be listed again within a step.
-STATUS_SIZE = 3
+#: the candidates had to be listed again within a step; then the step from which each body is
+#: listed for its own bound again (``SWEEP_PAUSE``; kept here so that a run does not depend on
+#: how its steps are split into calls).
+STATUS_SIZE = 4
 
 #: Helpers the compiled form inlines into their callers: the small ones, and those the loop calls
 #: for every pair it looks at, which take arrays (a call costs a reference count taken and given
@@ -130,6 +144,7 @@ NO_REFCOUNT = (
     "_base_accelerations",
     "_rest_passes",
     "_outrun",
+    "_sweeps",
     "_predict_all",
     "_impacts",
     "_end_separations",
@@ -863,18 +878,44 @@ def _rest_passes(
             break
 
 
-def _outrun(acc: Any, vel: Any, v_ref: Any, v_bound: float, u_bound: float, a_bound: float) -> Any:
+def _outrun(acc: Any, vel: Any, v_ref: Any, v_bound: float, bound: Any, a_bound: float) -> Any:
     """Whether phase 2 left a body faster or more accelerated than the candidates were listed
-    for, and the largest acceleration (at least ``a_bound``)."""
+    for (``bound[i]``: body ``i``'s speed relative to ``v_ref``), and the largest acceleration
+    (at least ``a_bound``)."""
     grown = False
     for i in range(acc.shape[0]):
         size = math.sqrt(acc[i, 0] ** 2 + acc[i, 1] ** 2 + acc[i, 2] ** 2)
         if size > a_bound:
             a_bound = size
             grown = True
-        if _speed_beyond(vel, i, v_ref, v_bound, u_bound):
+        if _speed_beyond(vel, i, v_ref, v_bound, bound[i]):
             grown = True
     return grown, a_bound
+
+
+def _sweeps(
+    vel: Any, v_ref: Any, u_bound: float, floor: float, remaining: float, drift: float, bound: Any, reach: Any
+) -> None:
+    """Each body's speed bound relative to ``v_ref`` for the listing (``SWEEP_GROWTH`` times its
+    own, at least ``floor`` times ``u_bound``, the fastest's, at most that) in ``bound``, and how
+    far it can move in that frame in the ``remaining`` time, ``bound T + drift``, in ``reach``:
+    a pair of bodies is listed within the contact margin and both reaches.
+
+    >>> bound, reach = np.zeros(2), np.zeros(2)
+    >>> _sweeps(np.array([[0.5, 0, 0], [4.0, 0, 0]]), np.zeros(3), 4.0, 0.5, 0.5, 0.25, bound, reach)
+    >>> bound.tolist(), reach.tolist()  # max(2 x 0.5, 2) = 2, min(8, 4) = 4; 2 x 0.5 + 0.25
+    ([2.0, 4.0], [1.25, 2.25])
+    >>> _sweeps(np.array([[0.5, 0, 0], [4.0, 0, 0]]), np.zeros(3), 4.0, 1.0, 0.5, 0.25, bound, reach)
+    >>> bound.tolist()  # floor 1: every body listed for the fastest's speed
+    [4.0, 4.0]
+    """
+    for i in range(vel.shape[0]):
+        ux = vel[i, 0] - v_ref[0]
+        uy = vel[i, 1] - v_ref[1]
+        uz = vel[i, 2] - v_ref[2]
+        own = SWEEP_GROWTH * math.sqrt(ux * ux + uy * uy + uz * uz)
+        bound[i] = min(u_bound, max(own, floor * u_bound))
+        reach[i] = bound[i] * remaining + drift
 
 
 def _predict_all(
@@ -983,6 +1024,7 @@ def _impacts(
     u_bound: float,
     v_bound: float,
     a_bound: float,
+    bound: Any,
     ev: int,
     impacts: int,
     runaway: bool,
@@ -1321,7 +1363,7 @@ def _impacts(
                         size = _heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
         for q in range(n_look):
             grown_by = a_bound * (when - t)
-            if _speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, u_bound + grown_by):
+            if _speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, bound[kicked[q]] + grown_by):
                 restart = True
         if restart:
             for q in range(n_look):
@@ -1486,6 +1528,8 @@ def run_exact_steps(
     looked = np.zeros(0, np.int64)  # when push-apart last looked at a pair (_push_sweep)
     moved = np.zeros(n, np.int64)  # when push-apart last moved a body
     push_clock = 0
+    bound = np.zeros(n)  # each body's speed bound for the listing, relative to v_ref (_sweeps)
+    reach = np.zeros(n)  # how far that lets it move in the rest of the step
     for step in range(first_step, first_step + steps):
         start = step * dt
         t = 0.0
@@ -1495,6 +1539,7 @@ def run_exact_steps(
             tau[i] = 0.0
         count = 0
         touching = np.zeros(0, np.int8)
+        floor = SWEEP_FLOOR if step >= status[3] else 1.0  # each body its own sweep, or the fastest's
         while True:  # one pass per listing of the candidates (more than one if a kick outran them)
             remaining = dt - t
             a_bound = ACCELERATION_HEADROOM * g_size
@@ -1521,10 +1566,11 @@ def run_exact_steps(
                 starts = hashed if buckets > 0 else cell_start
                 n_small = sk._bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
                 sk._store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
+                _sweeps(vel, v_ref, u_bound, floor, remaining, drift, bound, reach)  # in the bodies' new order
                 while True:  # listed again, into arrays twice as large, when they were too small
                     count = sk._find_pairs(
                         kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts,
-                        stencil, cell_key, ca, cb, cd, cn, margin, static_margin,
+                        stencil, cell_key, ca, cb, cd, cn, margin, static_margin, reach, contact_margin,
                     )  # fmt: skip
                     if count <= ca.shape[0]:
                         break
@@ -1558,7 +1604,7 @@ def run_exact_steps(
                         order, n_near, seen, changed_at, ca, cb, normals, kind, vel, ext, ima, acc, sup, nsup, s_kind,
                         rest, touching, rest_speed, ledger,
                     )  # fmt: skip
-                grown, a_bound = _outrun(acc, vel, v_ref, v_bound, u_bound, a_bound)
+                grown, a_bound = _outrun(acc, vel, v_ref, v_bound, bound, a_bound)
                 if not grown:
                     break
             # Each body's candidate pairs (CSR).
@@ -1604,7 +1650,7 @@ def run_exact_steps(
                     adj_start, adj, rest, touching, ignored, normals, sup, nsup, ver, ht, hk, hv, size, sep_ev,
                     sep_val, look_seen, look_changed, look_clock, kicked, is_kicked, queue, queued, before, v_ref,
                     events, event_count, event_room, ledger, status, record, step, start, t, dt, gap, e_default,
-                    contact_margin, rest_speed, resting_on, u_bound, v_bound, a_bound, ev, impacts, runaway,
+                    contact_margin, rest_speed, resting_on, u_bound, v_bound, a_bound, bound, ev, impacts, runaway,
                 )  # fmt: skip
                 if code != ROOM:
                     break
@@ -1618,6 +1664,9 @@ def run_exact_steps(
                 touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
                 t = when
                 status[2] += 1
+                if floor < 1.0:  # the fastest's sweep for the rest of this step and SWEEP_PAUSE more
+                    floor = 1.0
+                    status[3] = step + 1 + SWEEP_PAUSE
             if not restart:
                 break
         # Phase 5: the end of the step.

@@ -637,6 +637,8 @@ def _find_contacts(
         np.zeros((0, 3)),
         margin,
         margin,
+        np.zeros(0),
+        0.0,
     )
 
 
@@ -663,6 +665,8 @@ def _find_pairs(
     cn: Any,
     margin: float,
     static_margin: float,
+    sweep: Any,
+    base: float,
 ) -> int:
     """:func:`_find_contacts` on the grid of :func:`_grid_plan` and :func:`_bucket_sort`: the
     grid's cells (or, if ``buckets > 0``, its buckets, each body's cell in ``cell_key``) hold the
@@ -672,11 +676,14 @@ def _find_pairs(
     cells, covers (all of them if there are fewer), then the larger bodies after it. Also keeps
     each contact's unit normal in ``cn`` (rows of three) while ``cn`` has room: the positions do
     not change until push-apart, so the impulse sweeps read it there instead of computing the
-    separation again. A static is met within ``static_margin`` (a pair of bodies within
+    separation again. A static is met within ``static_margin``; a pair of bodies within
+    ``margin``, or, if ``sweep`` has a row per body, within ``base + sweep[a] + sweep[b]`` (each
+    body's own sweep, at most ``margin - base`` together: the grid's cells are sized for
     ``margin``)."""
     n = pos.shape[0]
     cap = ca.shape[0]
     cap_n = cn.shape[0]
+    per_body = sweep.shape[0] > 0
     nx = shape[0]
     ny = shape[1]
     nz = shape[2]
@@ -789,26 +796,28 @@ def _find_pairs(
         ey = ext[i, 1]
         ez = ext[i, 2]
         ball = kind[i] <= BALL_3D
+        own = base + sweep[i] if per_body else margin
         for r in range(n_runs):
             key_lo = runs[r, 2]
             key_hi = runs[r, 3]
             for j in range(runs[r, 0], runs[r, 1]):
                 if key_lo <= key_hi and (cell_key[j] < key_lo or cell_key[j] > key_hi):
                     continue
+                pair_margin = own + sweep[j] if per_body else margin
                 # The cheap reject, written out here (it runs for every candidate pair): the
                 # bounding boxes, then for two balls the squared distance of the centres.
                 dx = pos[j, 0] - px
                 dy = pos[j, 1] - py
                 dz = pos[j, 2] - pz
                 if (
-                    abs(dx) > ex + ext[j, 0] + margin
-                    or abs(dy) > ey + ext[j, 1] + margin
-                    or abs(dz) > ez + ext[j, 2] + margin
+                    abs(dx) > ex + ext[j, 0] + pair_margin
+                    or abs(dy) > ey + ext[j, 1] + pair_margin
+                    or abs(dz) > ez + ext[j, 2] + pair_margin
                 ):
                     continue
                 if ball and kind[j] <= BALL_3D:
-                    reach = ex + ext[j, 0] + margin
-                    if dx * dx + dy * dy + dz * dz > reach * reach * _WIDEN:
+                    apart = ex + ext[j, 0] + pair_margin
+                    if dx * dx + dy * dy + dz * dz > apart * apart * _WIDEN:
                         continue
                 a = i
                 b = j
@@ -831,7 +840,7 @@ def _find_pairs(
                     ext[b, 1],
                     ext[b, 2],
                 )
-                if sep[0] <= margin:
+                if sep[0] <= pair_margin:
                     if count < cap:
                         ca[count] = a
                         cb[count] = b
@@ -1741,6 +1750,7 @@ def run_steps(
     key_of = np.zeros(n, np.int64)
     cell_key = np.zeros(n, np.int64)
     hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
+    no_reach = np.zeros(0)  # one margin for every pair (_find_pairs)
     # Ticks of the sweeps (see _impulses): a body's last velocity change, its last move; they
     # only grow, so values from earlier steps (other bodies, after the re-sort) are all older.
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
@@ -1762,7 +1772,7 @@ def run_steps(
         while True:  # listed again, into arrays twice as large, when they were too small
             count = _find_pairs(
                 kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
-                cell_key, ca, cb, cd, cn, contact_margin, contact_margin,
+                cell_key, ca, cb, cd, cn, contact_margin, contact_margin, no_reach, 0.0,
             )  # fmt: skip
             if count <= ca.shape[0]:
                 break
@@ -1915,7 +1925,7 @@ def find_near(
     while True:  # listed again, into arrays large enough, when they were too small
         count = _find_pairs(
             skind, spos, sext, sids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
-            cell_key, ca, cb, cd, no_normals, margin, margin,
+            cell_key, ca, cb, cd, no_normals, margin, margin, np.zeros(0), 0.0,
         )  # fmt: skip
         if count <= ca.shape[0]:
             break
