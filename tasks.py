@@ -34,9 +34,13 @@ LOCK_WAIT_SECONDS = 10.0
 
 
 def sh(*command: str | Path) -> None:
+    """Run ``command`` in the project's folder, then say how long it took (CI's log then shows
+    where its minutes go); exit with its status if it failed."""
     words = [str(word) for word in command]
     print("+", " ".join(words), flush=True)
+    start = time.monotonic()
     result = subprocess.run(words, cwd=ROOT, check=False)
+    print(f"+ ({time.monotonic() - start:.0f} s)", flush=True)
     if result.returncode != 0:
         sys.exit(result.returncode)
 
@@ -83,7 +87,8 @@ def test() -> None:
     sh(BIN / "mypy")
     sh(BIN / "mkdocs", "build", "--strict", "--quiet")  # the API reference; a warning fails it
     sh_waiting_for_apt("bash", "tests/setup_browser.sh")  # Debian's chromium for the browser test
-    sh(PYTHON, "-m", "pytest", "-n", "auto")  # pytest-xdist: one worker per core
+    # pytest-xdist: one worker per core; the slowest setups show what compiling the kernels took
+    sh(PYTHON, "-m", "pytest", "-n", "auto", "--durations=12")
 
 
 def bench() -> None:
