@@ -346,8 +346,10 @@ def test_a_compiled_world_loads_its_kernels_with_the_collector_paused(monkeypatc
 @pytest.mark.parametrize("cached", [True, False])
 def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytest.MonkeyPatch, cached: bool) -> None:
     """Kernels not in numba's cache yet are compiled under a lock another process would wait on
-    (numba_cache.compile_lock), once per world and kernel; cached ones are loaded unlocked."""
+    (numba_cache.compile_lock), once per world and kernel, with Python's collector on (a compile
+    makes garbage for minutes); cached ones are loaded unlocked."""
     import contextlib
+    import gc
 
     from collisionlab.engine import compiled
     from collisionlab.engine import world as world_module
@@ -356,6 +358,7 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
 
     @contextlib.contextmanager
     def spy(package: object, stem: str) -> Iterator[None]:
+        assert gc.isenabled()
         locked.append(stem)
         yield
 

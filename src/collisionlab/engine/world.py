@@ -337,20 +337,19 @@ class World:
 
     def _first_call(self, kernels: ModuleType, entry: str) -> contextlib.AbstractContextManager[Any]:
         """What surrounds the first call of a compiled kernel module's ``entry``, when numba
-        loads its code from the cache, or compiles it: Python's collector paused (numba makes
-        objects that live until exit: :func:`~collisionlab.numba_cache.gc_paused`) and, if it
-        compiles, a lock that makes another process wanting the same kernels wait and then load
-        them rather than compile them too (:func:`~collisionlab.numba_cache.compile_lock`)."""
+        loads its code from the cache, or compiles it. A load runs with Python's collector
+        paused (numba makes objects that live until exit: :func:`~collisionlab.numba_cache.gc_paused`).
+        A compile runs with the collector on (it makes garbage for minutes) and under a lock that
+        makes another process wanting the same kernels wait and then load them rather than
+        compile them too (:func:`~collisionlab.numba_cache.compile_lock`)."""
         key = f"{kernels.__name__}.{entry}"
         if "._compiled_" not in key or key in self._called:
             return contextlib.nullcontext()
         self._called.add(key)
         stem = kernels.__name__.rpartition("._compiled_")[2]
-        stack = contextlib.ExitStack()
         if (stem == "exact_kernels") in self._uncached:
-            stack.enter_context(compile_lock(Path(kernels.__file__ or ".").parent, stem))
-        stack.enter_context(gc_paused())
-        return stack
+            return compile_lock(Path(kernels.__file__ or ".").parent, stem)
+        return gc_paused()
 
     def step(self, steps: int = 1) -> None:
         """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
