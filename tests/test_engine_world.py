@@ -347,7 +347,8 @@ def test_a_compiled_world_loads_its_kernels_with_the_collector_paused(monkeypatc
 def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytest.MonkeyPatch, cached: bool) -> None:
     """Kernels not in numba's cache yet are compiled under a lock another process would wait on
     (numba_cache.compile_lock), once per world and kernel, with Python's collector on (a compile
-    makes garbage for minutes); cached ones are loaded unlocked."""
+    makes garbage for minutes), and said once per world; cached ones are loaded unlocked, and
+    nothing is said. The cache is asked about the kernel that is about to be called."""
     import contextlib
     import gc
 
@@ -362,11 +363,27 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
         locked.append(stem)
         yield
 
-    monkeypatch.setattr(compiled, "is_cached", lambda exact=False: cached)
+    asked: list[tuple[str, str]] = []
+
+    def is_cached(stem: str, entry: str) -> bool:
+        asked.append((stem, entry))
+        return cached
+
+    monkeypatch.setattr(compiled, "is_cached", is_cached)
     monkeypatch.setattr(world_module, "compile_lock", spy)
+    monkeypatch.setattr(world_module, "COMPILE_ABOVE", 0)  # the check of overlaps compiled too
     ball = Body("ball", Sphere((0, 1, 0), 0.5), velocity=(0, -1, 0))
+    said: list[str] = []
     for mode in ("euler", "exact"):
-        world = World(Scenario(Settings(dt=0.01, steps=3, mode=mode), (ball,), ()), WorldParams(compiled=True))
+        scenario = Scenario(Settings(dt=0.01, steps=3, mode=mode), (ball,), ())
+        world = World(scenario, WorldParams(compiled=True), notify=said.append)
         world.step(1)
         world.step(2)
-    assert locked == ([] if cached else ["step_kernels", "exact_kernels"])
+    assert asked == [
+        ("step_kernels", "find_near"),  # the check of overlaps at the start
+        ("step_kernels", "run_steps"),
+        ("step_kernels", "find_near"),
+        ("exact_kernels", "run_exact_steps"),
+    ]
+    assert locked == ([] if cached else [stem for stem, _ in asked])
+    assert len(said) == (0 if cached else 2)  # once per world

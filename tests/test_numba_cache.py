@@ -4,9 +4,11 @@ doing it at once (pytest-xdist workers, two runs started together) do not trip e
 from __future__ import annotations
 
 import os
+import pickle
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -139,3 +141,41 @@ def test_the_compile_lock_is_skipped_where_no_lock_file_can_be_made(
     with numba_cache.compile_lock(tmp_path, "step"):
         ran.append(True)
     assert ran == [True]
+
+
+def _overloads(index: Path) -> dict[Any, Any]:
+    """What numba's index file ``index`` lists (none if another numba wrote it), in the format its
+    ``IndexDataCacheFile`` reads: a pickled version, then ``(source stamp, overloads)``, each
+    overload's key ``(argument types, target machine, hash of the function's code)``. numba
+    writes an index again, with only the present source's overloads, whenever it compiles the
+    function after its source changed."""
+    import numba
+
+    with index.open("rb") as f:
+        version = pickle.load(f)
+        _, overloads = pickle.loads(f.read())
+    return overloads if version == numba.__version__ else {}
+
+
+def test_every_kernel_is_compiled_for_one_set_of_argument_types() -> None:
+    """numba compiles a function once for each set of argument types it is called with, and a
+    variable that starts at a constant (``k = 0``) is first typed as that constant
+    (``Literal[int](0)``): a kernel it was passed to was compiled twice, the exact stepper's
+    ``_impacts`` for two minutes more (step_kernels._int). The session's fixture has compiled or
+    loaded every kernel (conftest.py), so their index files are there to read, in the cache
+    folder numba was given (``__pycache__`` may hold files of runs without one)."""
+    import collisionlab
+    from collisionlab import edmd, engine
+
+    folders = [Path(package.__file__).parent for package in (collisionlab, engine, edmd)]
+    types_of: dict[tuple[str, Any], list[Any]] = {}
+    for folder in folders:
+        for index in numba_cache.cache_files(folder):
+            if index.suffix == ".nbi" and index.parent == numba_cache._cache_folder(folder.resolve()):
+                for signature, *target in _overloads(index):
+                    types_of.setdefault((index.name, tuple(target)), []).append(signature)
+    names = {name.split("-")[0] for name, _ in types_of}
+    for entry in ("exact_kernels.run_exact_steps", "step_kernels.run_steps", "loop.run_events", "text_kernels.lay_out"):
+        assert entry in names  # read, not skipped
+    twice = {name: [str(s) for s in signatures] for (name, _), signatures in types_of.items() if len(signatures) > 1}
+    assert not twice

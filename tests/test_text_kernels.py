@@ -20,7 +20,7 @@ def fixed3(values: NDArray[np.float64], compiled: bool) -> list[str]:
     program = np.array([[FIXED3, 0, 0, 0]], np.int64)
     out = np.zeros(n * 24, np.uint8)
     starts = np.zeros(n + 1, np.int64)
-    nothing = np.zeros(0, np.uint8)
+    nothing = np.frombuffer(b"", np.uint8)  # read-only, as the callers' (one compiled copy)
     lay_out = text_kernels.compiled() if compiled else text_kernels.lay_out
     lay_out(
         nothing, np.zeros(n, np.int64), np.zeros(n, np.int64), np.zeros(n, np.int64), np.zeros((n, 1), bool),

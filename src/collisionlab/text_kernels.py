@@ -76,7 +76,9 @@ def lay_out(
     its flags ``flags[e]`` (flag 0: against an obstacle), its step ``steps[e]``. Literal ``k``
     is ``literals[literal_bounds[k]:literal_bounds[k + 1]]``. ``values[e, k]`` are event ``e``'s
     values for FIXED3, each finite one below :data:`FIXED3_LIMIT` in magnitude. ``out`` must be
-    large enough.
+    large enough. ``numbers``, ``names`` and ``literals`` are read-only arrays (``np.frombuffer``
+    of bytes) in every caller: numba compiles a function once per type of its arguments, and a
+    writable array is another type.
 
     FIXED3 rounds the value's exact binary fraction to three decimals, half to even, as Python's
     ``%`` does: with ``|x| = m 2**e`` (``m`` its 53-bit significand, ``e <= 0`` below the limit),

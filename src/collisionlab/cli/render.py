@@ -192,6 +192,7 @@ def _laid_out_texts(
     # "-" + 16 digits + "." + 3 digits (below FIXED3_LIMIT) or "-inf".
     bound = int(literal_bounds[-1]) + 4 * longest + 21 + 21 * values.shape[1]
     lay_out = text_kernels.compiled()
+    no_numbers = np.frombuffer(b"", np.uint8)  # read-only, as every caller's (text_kernels.lay_out)
     pieces = []
     offsets = np.empty(n + 1, np.int64)  # where each event's text starts in the whole text
     done = 0
@@ -200,7 +201,7 @@ def _laid_out_texts(
         count = len(steps[rows])
         out = np.empty(count * bound, np.uint8)
         written = lay_out(
-            out[:0], steps[rows], name_a[rows], name_b[rows], flags[rows], name_bytes, name_bounds,
+            no_numbers, steps[rows], name_a[rows], name_b[rows], flags[rows], name_bytes, name_bounds,
             program, literals, literal_bounds, out, values[rows], offsets[start : start + count + 1],
         )  # fmt: skip
         offsets[start : start + count + 1] += done

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .compile import jit, jit_inline, prefetch
+from .compile import flag, jit, jit_inline, prefetch
 from .layout import CELL, EDGE, NNB, P_CUT, P_INV_H, P_L, P_REACH, Q_DIM, Q_NC, Q_PERIODIC, C, X
 
 __all__ = ["CELL_FULL", "LIST_FULL", "build_all_lists", "fetch_cells", "nearest_image", "rebuild_list"]
@@ -295,7 +295,7 @@ def rebuild_list(F: Any, IX: Any, NB: Any, P: Any, Q: Any, CI: Any, CF: Any, i: 
     _set_centre(F, P, Q, i)
     if not _put_in_cell(F, IX, P, Q, CI, CF, i):
         return CELL_FULL
-    return _link_neighbours(F, IX, NB, P, Q, CI, CF, i, False)
+    return _link_neighbours(F, IX, NB, P, Q, CI, CF, i, flag(False))
 
 
 @jit
@@ -311,7 +311,7 @@ def build_all_lists(F: Any, IX: Any, NB: Any, P: Any, Q: Any, CI: Any, CF: Any) 
         if not _put_in_cell(F, IX, P, Q, CI, CF, i):
             return CELL_FULL
     for i in range(n):
-        status = _link_neighbours(F, IX, NB, P, Q, CI, CF, i, True)
+        status = _link_neighbours(F, IX, NB, P, Q, CI, CF, i, flag(True))
         if status != 0:
             return status
     return 0

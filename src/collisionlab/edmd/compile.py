@@ -32,7 +32,7 @@ from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
 from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["borrowed", "is_cached", "jit", "jit_inline", "prefetch"]
+__all__ = ["borrowed", "flag", "is_cached", "jit", "jit_inline", "prefetch"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _A = TypeVar("_A")
@@ -48,6 +48,18 @@ def jit_inline(function: _F) -> _F:
     event loop take a dozen arrays each, and a real call would pass every array's descriptor and
     adjust its reference count, which cost more than the work."""
     return cast(_F, numba.njit(cache=True, error_model="numpy", inline="always")(function))
+
+
+@jit_inline
+def flag(value: bool) -> bool:
+    """``value`` as an ordinary bool, not the constant ``True`` or ``False``: numba types a constant
+    argument as itself (``Literal[bool](True)``) and would compile the kernel it is passed to once
+    for each constant.
+
+    >>> flag(True)
+    True
+    """
+    return bool(value)
 
 
 def is_cached() -> bool:

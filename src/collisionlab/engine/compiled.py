@@ -104,9 +104,10 @@ def exact_kernels() -> types.ModuleType:
     return _loaded["exact"]
 
 
-def is_cached(exact: bool = False) -> bool:
-    """Whether numba's on-disk cache seems to hold the stepper already (then a run loads it in
-    well under a second instead of compiling); a guess from the cache's index file."""
+def is_cached(stem: str, entry: str) -> bool:
+    """Whether numba's on-disk cache seems to hold the kernel ``entry`` of the file ``stem``
+    (``"step_kernels"``, ``"run_steps"``) already: its first call then loads it in well under a
+    second instead of compiling it. A guess from the cache's index file of that function itself
+    (the kernels it calls are compiled into its machine code)."""
     use_user_cache()
-    stem, entry = ("exact_kernels", "run_exact_steps") if exact else ("step_kernels", "run_steps")
     return any(f.name.startswith(f"{stem}.{entry}-") for f in cache_files(_HERE))

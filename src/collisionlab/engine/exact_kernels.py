@@ -1507,7 +1507,7 @@ def run_exact_steps(
     # changed a body (look_changed), on one clock (look_clock): _unchanged_since.
     look_seen = np.zeros(0, np.int64)
     look_changed = np.zeros(n, np.int64)
-    look_clock = 0
+    look_clock = sk._int(0)
     near_idx = np.zeros(0, np.int64)
     seen = np.zeros(0, np.int64)
     g_size = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
@@ -1519,7 +1519,7 @@ def run_exact_steps(
     key_of = np.zeros(n, np.int64)
     cell_key = np.zeros(n, np.int64)
     hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
-    ev = 0  # the events resolved so far (the separations' memory)
+    ev = sk._int(0)  # the events resolved so far (the separations' memory)
     v_ref = np.zeros(3)  # the frame the candidates' sweep is measured in (_velocity_bounds)
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
     # Each candidate's unit normal where it was listed (phase 2 reads it), then where the step
@@ -1527,14 +1527,14 @@ def run_exact_steps(
     cn = np.zeros((ca.shape[0], 3))
     looked = np.zeros(0, np.int64)  # when push-apart last looked at a pair (_push_sweep)
     moved = np.zeros(n, np.int64)  # when push-apart last moved a body
-    push_clock = 0
+    push_clock = sk._int(0)
     bound = np.zeros(n)  # each body's speed bound for the listing, relative to v_ref (_sweeps)
     reach = np.zeros(n)  # how far that lets it move in the rest of the step
     for step in range(first_step, first_step + steps):
         start = step * dt
         t = 0.0
-        impacts = 0
-        runaway = False
+        impacts = sk._int(0)
+        runaway = sk._bool(False)
         for i in range(n):
             tau[i] = 0.0
         count = 0
@@ -1593,7 +1593,7 @@ def run_exact_steps(
                     if near_idx.shape[0] < count:
                         near_idx = np.zeros(2 * count, np.int64)
                         seen = np.zeros(2 * count, np.int64)
-                    n_near = 0
+                    n_near = sk._int(0)
                     for c in range(count):
                         if -cd[c] <= contact_margin:
                             near_idx[n_near] = c

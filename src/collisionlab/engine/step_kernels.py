@@ -91,6 +91,8 @@ STATIC_BOX = 2
 #: Helpers the compiled form inlines into their callers: they take arrays, and a call that passes
 #: several numba arrays (each a struct of seven fields) costs more than the work inside.
 INLINE = (
+    "_int",
+    "_bool",
     "_pair_e",
     "_pair_sep",
     "_body_separation",
@@ -154,6 +156,29 @@ _NEVER = 2**62
 
 
 # --- state helpers ------------------------------------------------------------------------------
+def _int(value: int) -> int:
+    """``value`` as an ordinary integer in the compiled form. numba types a variable that starts
+    at a constant (``k = 0``) as that constant (``Literal[int](0)``) until its inference reaches
+    the loop that changes it, and compiles each kernel the variable is passed to for both types:
+    twice (the exact stepper's ``_impacts`` took two minutes more to compile). So a counter passed
+    to a kernel that is not inlined starts at ``_int(0)``, and a constant argument is ``_int(1)``;
+    ``tests/test_engine_compiled.py`` checks that no kernel is compiled twice.
+
+    >>> _int(0)
+    0
+    """
+    return int(value)
+
+
+def _bool(value: bool) -> bool:
+    """``value`` as an ordinary bool in the compiled form (:func:`_int`: ``Literal[bool]``).
+
+    >>> _bool(False)
+    False
+    """
+    return bool(value)
+
+
 def _pair_e(e_a: float, e_b: float, e_default: float) -> float:
     """A pair's restitution: the larger of the two overrides if any (NaN means none), else the
     scenario's default (Box2D mixes by max)."""
@@ -997,7 +1022,7 @@ def _order_contacts(pos: Any, ca: Any, cb: Any, cd: Any, count: int) -> Any:
     unstably: the order is total."""
     order = np.argsort(-cd[:count])
     spare = np.empty(count, np.int64)
-    s = 0
+    s = _int(0)
     while s < count:
         t = s + 1
         while t < count and cd[order[t]] == cd[order[s]]:
@@ -1113,7 +1138,7 @@ def _order_subset(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int) -> Any:
     spare = np.empty(m, np.int64)
     spare_keys = np.empty((m, TIE_KEY_SIZE))
     row = np.empty(TIE_KEY_SIZE)
-    s = 0
+    s = _int(0)
     while s < m:
         t = s + 1
         while t < m and cd[order[t]] == cd[order[s]]:
@@ -1152,7 +1177,7 @@ def _order_coupled(pos: Any, ca: Any, cb: Any, cd: Any, idx: Any, m: int, degree
         degree[cb[c]] += 1
     shared = np.empty(m, np.int64)
     order = np.empty(m, np.int64)
-    k = 0
+    k = _int(0)
     alone = m
     for u in range(m - 1, -1, -1):  # from the end, so those alone keep their increasing numbers
         c = idx[u]
@@ -1278,7 +1303,7 @@ def _write_event(
     b: int,
 ) -> Any:
     """Append an event row, growing the buffer when full; returns the buffer."""
-    events = _events_with_room(events, count, 1)
+    events = _events_with_room(events, count, _int(1))
     _put_event(events, count, kind_code, step, time, id_a, id_b, sep, vn, j, e, before, vel, a, b)
     return events
 
@@ -1394,7 +1419,7 @@ def _impulses(
             if record and first_pass and touching[c] == 0 and cd[c] >= 0.0:
                 for k in range(6):
                     before[k] = 0.0
-                code = EVENT_SKIPPED
+                code = _int(EVENT_SKIPPED)
                 sep = _contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                 events = _write_event(
                     events, event_count[0], code, step, time, id_a, ids[b], sep, vn, 0.0, 0.0, before, vel, a, b
@@ -1756,7 +1781,7 @@ def run_steps(
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
     changed = np.full(n, -1, np.int64)
     moved = np.full(n, -1, np.int64)
-    clock = 0
+    clock = _int(0)
     degree = np.zeros(n, np.int64)  # _order_coupled's count of contacts per body
     every = np.arange(ca.shape[0])  # every contact's number
     for step in range(first_step, first_step + steps):

@@ -103,7 +103,7 @@ class World:
         self._tunnel_warned = False
         self._kernels: dict[bool, Any] = {}
         self._called: set[str] = set()  # compiled kernels called once already (numba has loaded them)
-        self._uncached: set[bool] = set()  # compiled kernels (exact or not) not in numba's cache yet
+        self._said_compiling = False  # the notice is given once per world
         #: Where :meth:`run` sends what happens, and whether the record keeps it too.
         self._observer: RunObserver | None = None
         self._keep = True
@@ -326,11 +326,6 @@ class World:
 
         exact = exact and self._exact
         if exact not in self._kernels:
-            if not compiled.is_cached(exact):
-                self._uncached.add(exact)
-                if self._notify is not None:
-                    took = "a few minutes" if exact else "about a minute"  # on 2 cores (bench/README.md)
-                    self._notify(f"compiling the engine's kernels (once per machine; {took})...")
             with gc_paused():  # numba's import, its registries
                 self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
         return self._kernels[exact]
@@ -339,17 +334,24 @@ class World:
         """What surrounds the first call of a compiled kernel module's ``entry``, when numba
         loads its code from the cache, or compiles it. A load runs with Python's collector
         paused (numba makes objects that live until exit: :func:`~collisionlab.numba_cache.gc_paused`).
-        A compile runs with the collector on (it makes garbage for minutes) and under a lock that
-        makes another process wanting the same kernels wait and then load them rather than
-        compile them too (:func:`~collisionlab.numba_cache.compile_lock`)."""
+        A compile is announced (once per world), and runs with the collector on (it makes garbage
+        for minutes) and under a lock that makes another process wanting the same kernels wait
+        and then load them rather than compile them too
+        (:func:`~collisionlab.numba_cache.compile_lock`)."""
+        from . import compiled
+
         key = f"{kernels.__name__}.{entry}"
         if "._compiled_" not in key or key in self._called:
             return contextlib.nullcontext()
         self._called.add(key)
         stem = kernels.__name__.rpartition("._compiled_")[2]
-        if (stem == "exact_kernels") in self._uncached:
-            return compile_lock(Path(kernels.__file__ or ".").parent, stem)
-        return gc_paused()
+        if compiled.is_cached(stem, entry):
+            return gc_paused()
+        if self._notify is not None and not self._said_compiling:
+            self._said_compiling = True
+            took = "a few minutes" if stem == "exact_kernels" else "about a minute"  # on 2 cores (bench/README.md)
+            self._notify(f"compiling the engine's kernels (once per machine; {took})...")
+        return compile_lock(Path(kernels.__file__ or ".").parent, stem)
 
     def step(self, steps: int = 1) -> None:
         """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
@@ -396,7 +398,8 @@ class World:
         """Advance ``steps`` steps with the stepper and ``kernels`` (its Python or compiled form)
         and take the ledger's sums and the events."""
         settings = self.scenario.settings
-        with contextlib.nullcontext() if kernels is None else self._first_call(kernels, "run"):
+        entry = "run_exact_steps" if self._exact else "run_steps"
+        with contextlib.nullcontext() if kernels is None else self._first_call(kernels, entry):
             self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
         self.step_index += steps
         self.time = self.step_index * settings.dt
