@@ -349,7 +349,11 @@ class World:
             return gc_paused()
         if self._notify is not None and not self._said_compiling:
             self._said_compiling = True
-            took = "a few minutes" if stem == "exact_kernels" else "about a minute"  # on 2 cores (bench/README.md)
+            # The exact stepper's kernel compiles after the step kernels the check of overlaps
+            # calls: the notice says what the whole run will wait (on 2 cores, bench/README.md).
+            exact = self._exact and not self.scenario.event_driven
+            exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
+            took = "about three minutes" if exact else "about a minute"
             self._notify(f"compiling the engine's kernels (once per machine; {took})...")
         return compile_lock(Path(kernels.__file__ or ".").parent, stem)
 
