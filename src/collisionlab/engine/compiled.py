@@ -15,8 +15,9 @@ last chunk of steps produced, in a thread of their own, while the next chunk run
 
 numba keys each cached function on its own source file only, but the stepper's machine code
 contains the geometry kernels it calls, and the options above (this file) change it too:
-:func:`_forget_stale` drops a kernel file's cache when a file it calls, or this one, changed
-since it was written, so an edit there can never run stale code.
+:func:`_forget_stale` drops a kernel file's cache when the file, a file it calls, or this one,
+changed since it was written, so an edit there can never run stale code (and :func:`is_cached`
+never finds a kernel numba would compile again).
 """
 
 from __future__ import annotations
@@ -71,10 +72,11 @@ _CALLS = {
 
 
 def _forget_stale() -> None:
-    """Remove a kernel file's cached code if a file it calls, or this one (the options it is
-    compiled with), is newer than it."""
+    """Remove a kernel file's cached code if the file, a file it calls, or this one (the options
+    it is compiled with), is newer than it. (numba would compile a changed file's kernels again
+    anyway; removing its files first keeps :func:`is_cached` true to what a call will do.)"""
     for stem, callees in _CALLS.items():
-        sources = [_HERE / f"{callee}.py" for callee in callees]
+        sources = [_HERE / f"{name}.py" for name in (stem, *callees)]
         sources += [_HERE.parent / "tolerances.py", _HERE.parent / "limits.py", Path(__file__)]
         forget_stale(_HERE, [stem], sources)
 

@@ -162,7 +162,7 @@ def _int(value: int) -> int:
     the loop that changes it, and compiles each kernel the variable is passed to for both types:
     twice (the exact stepper's ``_impacts`` took two minutes more to compile). So a counter passed
     to a kernel that is not inlined starts at ``_int(0)``, and a constant argument is ``_int(1)``;
-    ``tests/test_engine_compiled.py`` checks that no kernel is compiled twice.
+    ``tests/test_numba_cache.py`` checks that no kernel is compiled twice.
 
     >>> _int(0)
     0

@@ -1,0 +1,41 @@
+"""How the engine's compiled kernels are kept (engine/compiled.py): which cached code is dropped
+after an edit, and what the world is told is cached. numba itself is not run here."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from collisionlab import numba_cache
+from collisionlab.engine import compiled
+
+
+def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest.MonkeyPatch) -> None:
+    """numba would compile a changed file's kernels again anyway; its stale files must go first,
+    or is_cached would say a kernel is cached while its first call compiles it."""
+    dropped: dict[str, list[str]] = {}
+
+    def spy(package: Path, stems: list[str], sources: list[Path]) -> None:
+        dropped[stems[0]] = [source.name for source in sources]
+
+    monkeypatch.setattr(compiled, "forget_stale", spy)
+    compiled._forget_stale()
+    assert set(dropped) == {"geometry_kernels", "step_kernels", "exact_kernels"}
+    assert "geometry_kernels.py" in dropped["geometry_kernels"]
+    assert {"step_kernels.py", "geometry_kernels.py"} <= set(dropped["step_kernels"])
+    assert {"exact_kernels.py", "step_kernels.py", "geometry_kernels.py"} <= set(dropped["exact_kernels"])
+    assert all({"compiled.py", "tolerances.py", "limits.py"} <= set(names) for names in dropped.values())
+
+
+def test_is_cached_asks_about_the_kernel_to_be_called(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """An exact world's check of overlaps calls find_near: whether run_steps is cached says
+    nothing about it (a machine may never have run a large Forward Euler world)."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    folder = numba_cache._cache_folder(Path(compiled.__file__).resolve().parent)
+    folder.mkdir(parents=True)
+    (folder / "step_kernels.find_near-2101.py311.nbi").write_bytes(b"")
+    assert compiled.is_cached("step_kernels", "find_near")
+    assert not compiled.is_cached("step_kernels", "run_steps")
+    assert not compiled.is_cached("exact_kernels", "run_exact_steps")
+    assert not compiled.is_cached("exact_kernels", "find_near")  # another file's function
