@@ -87,7 +87,7 @@ class EventDrivenStepper:
             tc = default_tc(radius, bodies.vel, g, restitution, params.tc_fraction)
         self.tc = tc
         if notify is not None and not is_cached():
-            notify("compiling the event-driven kernels (once per machine; about a minute)...")
+            notify("compiling the event-driven kernels (once per machine; about two minutes)...")
         try:
             self.world = EventDrivenWorld(
                 bodies.pos[:, :dims] - self._origin,
