@@ -167,13 +167,12 @@ def test_every_kernel_is_compiled_for_one_set_of_argument_types() -> None:
     import collisionlab
     from collisionlab import edmd, engine
 
-    folders = [Path(package.__file__).parent for package in (collisionlab, engine, edmd)]
     types_of: dict[tuple[str, Any], list[Any]] = {}
-    for folder in folders:
-        for index in numba_cache.cache_files(folder):
-            if index.suffix == ".nbi" and index.parent == numba_cache._cache_folder(folder.resolve()):
-                for signature, *target in _overloads(index):
-                    types_of.setdefault((index.name, tuple(target)), []).append(signature)
+    for package in (collisionlab, engine, edmd):
+        folder = numba_cache._cache_folder(Path(str(package.__file__)).resolve().parent)
+        for index in folder.glob("*.nbi"):
+            for signature, *target in _overloads(index):
+                types_of.setdefault((index.name, tuple(target)), []).append(signature)
     names = {name.split("-")[0] for name, _ in types_of}
     for entry in ("exact_kernels.run_exact_steps", "step_kernels.run_steps", "loop.run_events", "text_kernels.lay_out"):
         assert entry in names  # read, not skipped

@@ -903,7 +903,7 @@ def _sweeps(
 
     >>> bound, reach = np.zeros(2), np.zeros(2)
     >>> _sweeps(np.array([[0.5, 0, 0], [4.0, 0, 0]]), np.zeros(3), 4.0, 0.5, 0.5, 0.25, bound, reach)
-    >>> bound.tolist(), reach.tolist()  # max(2 x 0.5, 2) = 2, min(8, 4) = 4; 2 x 0.5 + 0.25
+    >>> bound.tolist(), reach.tolist()  # max(2 x 0.5, 2) = 2, min(8, 4) = 4; 2 x 0.5 + 0.25, 4 x 0.5 + 0.25
     ([2.0, 4.0], [1.25, 2.25])
     >>> _sweeps(np.array([[0.5, 0, 0], [4.0, 0, 0]]), np.zeros(3), 4.0, 1.0, 0.5, 0.25, bound, reach)
     >>> bound.tolist()  # floor 1: every body listed for the fastest's speed
