@@ -14,6 +14,11 @@
 
 Every figure is the median of the runs with its min and max. Paste the output into
 bench/README.md with the date and the machine.
+
+The incline's figures are absolute, and the machines here are shared: where the reference C
+code sits beside the checkout (``shared/peers/edmd``, as for ``bench_edmd.py``), its speed on a
+fixed workload is read before and after them (``--no-yardstick``: not), so a run taken while
+the machine was loaded can be told from a slower build.
 """
 
 from __future__ import annotations
@@ -27,6 +32,8 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+import bench_edmd  # the reference C code's path and runner (this folder is on sys.path when run)
 
 ROOT = Path(__file__).resolve().parent.parent
 CLI = [sys.executable, "-m", "collisionlab"]
@@ -105,10 +112,25 @@ def spread(values: list[float], fmt: str = "{:.3g}") -> str:
     return f"{fmt.format(statistics.median(values))} (min {fmt.format(min(values))}, max {fmt.format(max(values))})"
 
 
-def incline(runs: int, plan: dict[str, tuple[int, int, int]], folder: Path) -> None:
+def yardstick() -> str:
+    """The machine's speed of the moment: the reference C code's collisions per second on a fixed
+    workload (4,000 spheres at packing fraction 0.25 to time 10; 490-500 k on a quiet machine
+    here, bench/README.md), or why it was not read."""
+    if not bench_edmd.PEER.exists():
+        return "not read (no shared/peers/edmd beside the checkout)"
+    try:
+        return f"{bench_edmd.peer(4000, 0.25, 10.0)['collisions_per_s'] / 1e3:,.0f} k collisions/s"
+    except (OSError, subprocess.CalledProcessError, ValueError, KeyError) as error:
+        return f"not read ({type(error).__name__})"
+
+
+def incline(runs: int, plan: dict[str, tuple[int, int, int]], folder: Path, machine: bool = True) -> None:
     """The whole command, with the lab's table (``--quiet``: every collision and the velocity
-    after it) and with JSON (every collision's working, every number in full)."""
+    after it) and with JSON (every collision's working, every number in full); with ``machine``,
+    the :func:`yardstick` before and after."""
     print("1. collisionlab run: spheres and boxes on a tilted plane")
+    if machine:
+        print(f"   the machine before: the reference C code, {yardstick()}")
     for mode, (balls, boxes, count) in plan.items():
         path = folder / f"incline-{mode}.toml"
         path.write_text(INCLINE.format(steps=count, mode=mode, balls=balls, boxes=boxes))
@@ -122,6 +144,8 @@ def incline(runs: int, plan: dict[str, tuple[int, int, int]], folder: Path) -> N
                 f"   {mode:5s} {fmt:5s} {bodies:5d} bodies, {count:5d} steps: "
                 f"{spread(rates, '{:,.0f}')} body-steps/s (command)"
             )
+    if machine:
+        print(f"   the machine after: the reference C code, {yardstick()}")
 
 
 def gas_memory(runs: int, folder: Path) -> None:
@@ -173,6 +197,7 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="fewer steps (a smoke run)")
     parser.add_argument("--runs", type=int, default=3)
     parser.add_argument("--only", choices=("incline", "memory", "startup", "long"), help="one part only")
+    parser.add_argument("--no-yardstick", action="store_true", help="do not time the reference C code around part 1")
     args = parser.parse_args()
     parts = {args.only} if args.only else {"incline", "memory", "startup", "long"}
     print(f"python {sys.version.split()[0]}, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d')}")
@@ -181,7 +206,8 @@ def main() -> None:
         # The same 2,020 bodies in both modes (the exact stepper runs on the engine's arrays).
         count = 200 if args.quick else 2000
         if "incline" in parts:
-            incline(args.runs, {"euler": (2000, 20, count), "exact": (2000, 20, count)}, where)
+            plan = {"euler": (2000, 20, count), "exact": (2000, 20, count)}
+            incline(args.runs, plan, where, machine=not args.no_yardstick)
         if "memory" in parts:
             gas_memory(args.runs, where)
         if "startup" in parts:
