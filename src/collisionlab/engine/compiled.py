@@ -30,7 +30,7 @@ from typing import Any
 
 from ..numba_cache import cache_files, forget_stale, use_user_cache
 
-__all__ = ["exact_kernels", "is_cached", "kernels"]
+__all__ = ["contact_kernels", "exact_kernels", "is_cached", "kernels"]
 
 _HERE = Path(__file__).resolve().parent
 _loaded: dict[str, types.ModuleType] = {}
@@ -66,8 +66,10 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
 #: Each kernel file and the files whose code its machine code contains.
 _CALLS = {
     "geometry_kernels": (),
+    "event_heap": (),
     "step_kernels": ("geometry_kernels",),
-    "exact_kernels": ("geometry_kernels", "step_kernels"),
+    "exact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
+    "contact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
 }
 
 
@@ -88,6 +90,7 @@ def _load() -> None:
         geometry = _compile_module("geometry_kernels", {})
         _loaded["step"] = _compile_module("step_kernels", {"_GEOMETRY": geometry})
         _loaded["geometry"] = geometry
+        _loaded["heap"] = _compile_module("event_heap", {})
 
 
 def kernels() -> types.ModuleType:
@@ -101,9 +104,19 @@ def exact_kernels() -> types.ModuleType:
     _load()
     if "exact" not in _loaded:
         _loaded["exact"] = _compile_module(
-            "exact_kernels", {"_GEOMETRY": _loaded["geometry"], "_STEP": _loaded["step"]}
+            "exact_kernels", {"_GEOMETRY": _loaded["geometry"], "_STEP": _loaded["step"], "_HEAP": _loaded["heap"]}
         )
     return _loaded["exact"]
+
+
+def contact_kernels() -> types.ModuleType:
+    """The compiled :mod:`~collisionlab.engine.contact_kernels` (calling the compiled step kernels)."""
+    _load()
+    if "contact" not in _loaded:
+        _loaded["contact"] = _compile_module(
+            "contact_kernels", {"_GEOMETRY": _loaded["geometry"], "_STEP": _loaded["step"], "_HEAP": _loaded["heap"]}
+        )
+    return _loaded["contact"]
 
 
 def is_cached(stem: str, entry: str) -> bool:

@@ -64,7 +64,9 @@ from ..tolerances import APPROACH_ROUNDING
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
     sk: Any = globals()["_STEP"]
+    eh: Any = globals()["_HEAP"]
 else:
+    from . import event_heap as eh
     from . import geometry_kernels as gk
     from . import step_kernels as sk
 
@@ -97,7 +99,7 @@ SWEEP_FLOOR = 0.5
 SWEEP_PAUSE = 50
 #: The heap has room for this many entries per candidate pair (and 2 more): twice the most that
 #: can be current (a pair's prediction and its rest's expiry), so a full heap compacts to at most
-#: half (:func:`_heap_compact`) and no push inside phase 4 allocates.
+#: half (:func:`~collisionlab.engine.event_heap.heap_compact`) and no push inside phase 4 allocates.
 HEAP_ROOM = 4
 #: What :func:`_impacts` returns with: no impact left before the step's end; a kick outran the
 #: candidates' bounds (list them again); the events buffer needs room before the next impact.
@@ -115,7 +117,6 @@ STATUS_SIZE = 4
 #: back for each array it passes, more than the work inside; inlined into a ``NO_REFCOUNT``
 #: phase, none at all).
 INLINE = (
-    "_first_root",
     "_response",
     "_rounding_speed",
     "_ball_ball_root",
@@ -133,8 +134,6 @@ INLINE = (
     "_recalled",
     "_base_acceleration",
     "_unchanged_since",
-    "_heap_push",
-    "_heap_pop",
 )
 
 #: The loop's phases that allocate nothing, compiled without numba's reference counts: an
@@ -160,36 +159,6 @@ def _rounding_speed(ux: float, uy: float, uz: float, wx: float, wy: float, wz: f
     True
     """
     return APPROACH_ROUNDING * (math.sqrt(ux * ux + uy * uy + uz * uz) + math.sqrt(wx * wx + wy * wy + wz * wz))
-
-
-def _first_root(c0: float, c1: float, c2: float, limit: float) -> float:
-    """The first ``t`` in ``(0, limit]`` where ``c0 + c1 t + c2 t^2`` (with ``c0 > 0``) reaches 0,
-    or ``inf`` (numerically stable roots: Press et al., *Numerical Recipes*, 5.6).
-
-    >>> _first_root(1.0, -2.0, 0.0, 10.0)   # 1 - 2t = 0
-    0.5
-    >>> _first_root(1.0, 0.0, -1.0, 10.0)   # 1 - t^2 = 0
-    1.0
-    >>> _first_root(1.0, 1.0, 1.0, 10.0)    # never below 1
-    inf
-    """
-    if c2 == 0.0:
-        if c1 < 0.0:
-            t = -c0 / c1
-            return t if t <= limit else math.inf
-        return math.inf
-    disc = c1 * c1 - 4.0 * c2 * c0
-    if disc < 0.0:
-        return math.inf
-    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
-    r1 = q / c2
-    r2 = c0 / q
-    best = math.inf
-    if r1 > 0.0:
-        best = r1
-    if 0.0 < r2 < best:
-        best = r2
-    return best if best <= limit else math.inf
 
 
 def _ball_ball_root(
@@ -405,7 +374,7 @@ def _time_of_impact(
             # exact also for a graze, which the iteration would only approach.
             step = _ball_ball_root(bx - px, by - py, bz - pz, wbx - wax, wby - way, wbz - waz, ea0 + eb0, t_end - t)
         else:
-            step = _first_root(sep[0], s1, s2, t_end - t)
+            step = gk.first_root(sep[0], s1, s2, t_end - t)
         if step == math.inf:
             return math.inf
         t += step
@@ -574,7 +543,7 @@ def _support_expiry(
     at = math.sqrt((qx - qn * nx) ** 2 + (qy - qn * ny) ** 2 + (qz - qn * nz) ** 2)
     if vt == 0.0 and at == 0.0:
         return math.inf
-    return _first_root(math.sqrt(radius * margin), -vt, -0.5 * at, math.inf)
+    return float(gk.first_root(math.sqrt(radius * margin), -vt, -0.5 * at, math.inf))
 
 
 def _rest(
@@ -737,70 +706,7 @@ def _base_acceleration(i: int, acc: Any, ima: Any, gravity: Any, nsup: Any) -> N
     nsup[i] = 0
 
 
-# --- the event calendar: a binary heap of (time, pair, version) ---------------------------------
-def _heap_push(ht: Any, hk: Any, hv: Any, size: int, t: float, k: int, v: int) -> int:
-    i = size
-    while i > 0:
-        p = (i - 1) // 2
-        if ht[p] < t or (ht[p] == t and hk[p] <= k):
-            break
-        ht[i] = ht[p]
-        hk[i] = hk[p]
-        hv[i] = hv[p]
-        i = p
-    ht[i] = t
-    hk[i] = k
-    hv[i] = v
-    return size + 1
-
-
-def _heap_pop(ht: Any, hk: Any, hv: Any, size: int) -> int:
-    """Remove the root (read it first); returns the new size."""
-    size -= 1
-    if size == 0:
-        return 0
-    t = ht[size]
-    k = hk[size]
-    v = hv[size]
-    i = 0
-    while True:
-        c = 2 * i + 1
-        if c >= size:
-            break
-        if c + 1 < size and (ht[c + 1] < ht[c] or (ht[c + 1] == ht[c] and hk[c + 1] < hk[c])):
-            c += 1
-        if t < ht[c] or (t == ht[c] and k <= hk[c]):
-            break
-        ht[i] = ht[c]
-        hk[i] = hk[c]
-        hv[i] = hv[c]
-        i = c
-    ht[i] = t
-    hk[i] = k
-    hv[i] = v
-    return size
-
-
-def _heap_compact(ht: Any, hk: Any, hv: Any, size: int, ver: Any) -> int:
-    """Make room for one more entry if the heap is full, in place: drop the stale entries (a
-    version other than ``ver``'s) and heap the others again; returns the new size. A key has at
-    most one current entry (each push takes a new version), so with ``HEAP_ROOM * count + 2``
-    places for ``2 count`` keys at least half the heap is then free."""
-    if size < ht.shape[0]:
-        return size
-    kept = 0
-    for i in range(size):
-        if hv[i] == ver[hk[i]]:
-            ht[kept] = ht[i]
-            hk[kept] = hk[i]
-            hv[kept] = hv[i]
-            kept += 1
-    size = 0
-    for i in range(kept):  # heapify by pushing again
-        size = _heap_push(ht, hk, hv, size, ht[i], hk[i], hv[i])
-    return size
-
-
+# --- the pairs in contact, remembered ------------------------------------------------------------
 def _save_touching(
     ca: Any, cb: Any, ids: Any, n: int, count: int, touching: Any, near: Any, touch_keys: Any, touch_count: Any
 ) -> Any:
@@ -954,12 +860,12 @@ def _predict_all(
             continue
         when = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap, -cd[c])
         if when < dt:
-            size = _heap_push(ht, hk, hv, size, when, c, 0)
+            size = eh.heap_push(ht, hk, hv, size, when, c, 0)
     for c in range(count):
         if rest[c] == 1:
             when = t + _support_expiry(ca[c], cb[c], kind, vel, acc, ext, s_kind, normals, c, contact_margin)
             if when < dt:
-                size = _heap_push(ht, hk, hv, size, when, count + c, 0)
+                size = eh.heap_push(ht, hk, hv, size, when, count + c, 0)
     return size
 
 
@@ -1036,7 +942,7 @@ def _impacts(
     Returns ``(code, size, ev, impacts, look_clock, runaway, when)``.
 
     Compiled without reference counts (``NO_REFCOUNT``): it allocates nothing, the heap has room
-    for every push (``_heap_compact``) and the driver gives the events buffer room first."""
+    for every push (``event_heap.heap_compact``) and the driver gives the events buffer room first."""
     n = pos.shape[0]
     restart = False
     while size > 0:
@@ -1045,7 +951,7 @@ def _impacts(
         when = ht[0]
         c = hk[0]
         version = hv[0]
-        size = _heap_pop(ht, hk, hv, size)
+        size = eh.heap_pop(ht, hk, hv, size)
         if version != ver[c]:
             continue
         ev += 1
@@ -1101,8 +1007,8 @@ def _impacts(
             if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
                 again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0])
                 if again < dt:
-                    size = _heap_compact(ht, hk, hv, size, ver)
-                    size = _heap_push(ht, hk, hv, size, again, c, ver[c])
+                    size = eh.heap_compact(ht, hk, hv, size, ver)
+                    size = eh.heap_push(ht, hk, hv, size, again, c, ver[c])
                 continue
             nx = sep[1]
             ny = sep[2]
@@ -1226,7 +1132,7 @@ def _impacts(
                         an = 0.0
                         for k in range(3):
                             an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
-                        if _first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
+                        if gk.first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
                             continue
                     e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
                     e_2 = 0.0 if -vn2 < rest_speed else e2_pair
@@ -1359,8 +1265,8 @@ def _impacts(
                         ca[c2], cb[c2], kind, vel, acc, ext, s_kind, normals, c2, contact_margin
                     )
                     if later < dt:
-                        size = _heap_compact(ht, hk, hv, size, ver)
-                        size = _heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
+                        size = eh.heap_compact(ht, hk, hv, size, ver)
+                        size = eh.heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
         for q in range(n_look):
             grown_by = a_bound * (when - t)
             if _speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, bound[kicked[q]] + grown_by):
@@ -1388,8 +1294,8 @@ def _impacts(
                     floor = max(floor, sep_val[c2, 0])
                 again = _time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor)
                 if again < dt:
-                    size = _heap_compact(ht, hk, hv, size, ver)
-                    size = _heap_push(ht, hk, hv, size, again, c2, ver[c2])
+                    size = eh.heap_compact(ht, hk, hv, size, ver)
+                    size = eh.heap_push(ht, hk, hv, size, again, c2, ver[c2])
         for q in range(n_look):
             is_kicked[kicked[q]] = 0
     return DONE, size, ev, impacts, look_clock, runaway, dt
@@ -1631,7 +1537,7 @@ def run_exact_steps(
                 sep_ev = np.full(2 * count, -1, np.int64)
                 sep_val = np.empty((2 * count, 7))
                 look_seen = np.zeros(2 * count, np.int64)
-            if ht.shape[0] < HEAP_ROOM * count + 2:  # (_heap_compact); empty here: nothing to copy
+            if ht.shape[0] < HEAP_ROOM * count + 2:  # (event_heap.heap_compact); empty here: nothing to copy
                 room = max(2 * ht.shape[0], HEAP_ROOM * count + 2)
                 ht = np.zeros(room)
                 hk = np.zeros(room, np.int64)

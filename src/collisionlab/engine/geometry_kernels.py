@@ -23,6 +23,7 @@ from ..tolerances import FALLBACK_NORMAL
 
 __all__ = [
     "applied_restitution",
+    "first_root",
     "impulse_magnitude",
     "norm3",
     "separation_ball_ball",
@@ -36,6 +37,9 @@ __all__ = [
 ]
 
 Sep = tuple[float, float, float, float, float, float, float]
+
+#: Helpers the compiled form inlines into their callers (the exact steppers' time-of-impact loops).
+INLINE = ("first_root",)
 
 _FX = FALLBACK_NORMAL[0]
 _FY = FALLBACK_NORMAL[1]
@@ -345,6 +349,36 @@ def impulse_magnitude(normal_speed: float, inverse_mass_sum: float, restitution:
 
 
 # --- time of impact -------------------------------------------------------------------------------
+def first_root(c0: float, c1: float, c2: float, limit: float) -> float:
+    """The first ``t`` in ``(0, limit]`` where ``c0 + c1 t + c2 t^2`` (with ``c0 > 0``) reaches 0,
+    or ``inf`` (numerically stable roots: Press et al., *Numerical Recipes*, 5.6).
+
+    >>> first_root(1.0, -2.0, 0.0, 10.0)   # 1 - 2t = 0
+    0.5
+    >>> first_root(1.0, 0.0, -1.0, 10.0)   # 1 - t^2 = 0
+    1.0
+    >>> first_root(1.0, 1.0, 1.0, 10.0)    # never below 1
+    inf
+    """
+    if c2 == 0.0:
+        if c1 < 0.0:
+            t = -c0 / c1
+            return t if t <= limit else math.inf
+        return math.inf
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return math.inf
+    q = -0.5 * (c1 + math.copysign(math.sqrt(disc), c1))
+    r1 = q / c2
+    r2 = c0 / q
+    best = math.inf
+    if r1 > 0.0:
+        best = r1
+    if 0.0 < r2 < best:
+        best = r2
+    return best if best <= limit else math.inf
+
+
 def time_of_impact_ball_ball(dx: float, dy: float, dz: float, wx: float, wy: float, wz: float, reach2: float) -> float:
     """When two balls whose centres are ``d`` apart (B minus A), moving at relative velocity
     ``w`` (B minus A) in straight flight, come within ``sqrt(reach2)`` (the sum of the radii):
