@@ -5,6 +5,7 @@
     python3 tasks.py test    # the same with the test tools, then ruff, mypy, the docs site and pytest
     python3 tasks.py bench   # the many-body benchmark against pymunk and pybullet (bench/README.md)
     python3 tasks.py bench-engine   # the engine's figures: a 2,020-body scenario, memory, start-up
+    python3 tasks.py bench-piles    # circles poured into a box: the contact solver against pymunk
     python3 tasks.py bench-edmd     # the event-driven engine against the reference C code
     python3 tasks.py edmd-long      # 10^7 elastic collisions; 1,000 balls coming to rest
     python3 tasks.py bench-sweep    # sweeps on Dask: 2 workers against 1, overhead per point
@@ -101,6 +102,11 @@ def bench_engine() -> None:
     sh(PYTHON, "bench/bench_engine.py", *sys.argv[2:])
 
 
+def bench_piles() -> None:
+    setup("bench")
+    sh(PYTHON, "bench/bench_piles.py", *sys.argv[2:])
+
+
 def bench_edmd() -> None:
     setup("dev")
     sh(PYTHON, "bench/bench_edmd.py", *sys.argv[2:])
@@ -129,6 +135,7 @@ TASKS = {
     "test": test,
     "bench": bench,
     "bench-engine": bench_engine,
+    "bench-piles": bench_piles,
     "bench-edmd": bench_edmd,
     "edmd-long": edmd_long,
     "bench-sweep": bench_sweep,

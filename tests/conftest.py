@@ -19,11 +19,11 @@ settings.load_profile("collisionlab")
 @pytest.fixture(scope="session", autouse=True)
 def _compiled_engine() -> None:
     """Compile the engine's kernels (or load numba's cache) once, before any test: a test that
-    waits for a program's output must not wait for the compiler instead. All three steppers:
-    Forward Euler, exact, event-driven, the particle kernels, and the kernel that lays out the
-    JSON of a world's collisions (a bouncing ball's run written as JSON). Under pytest-xdist, two
-    workers compile different kernels at once, and each then loads the other's from numba's
-    cache (its writes are atomic)."""
+    waits for a program's output must not wait for the compiler instead. All four steppers:
+    Forward Euler, exact (events and the contact solver), event-driven, the particle kernels,
+    and the kernel that lays out the JSON of a world's collisions (a bouncing ball's run written
+    as JSON). Under pytest-xdist, two workers compile different kernels at once, and each then
+    loads the other's from numba's cache (its writes are atomic)."""
     from collisionlab.cli.render import JsonWriter
     from collisionlab.demos import load_demo
     from collisionlab.edmd.observables import ExactGas
@@ -37,6 +37,10 @@ def _compiled_engine() -> None:
     def exact() -> None:
         World(load_demo("bouncing-ball").with_settings(mode="exact"), WorldParams(compiled=True)).step(2)
 
+    def contacts() -> None:
+        scenario = load_demo("bouncing-ball").with_settings(mode="exact", contacts="solve")
+        World(scenario, WorldParams(compiled=True)).step(2)
+
     def event_driven() -> None:
         ExactGas(n=20, dim=2, fraction=0.1, time=0.1).world().run(0.1)
 
@@ -49,5 +53,5 @@ def _compiled_engine() -> None:
     # then wait (numba_cache.compile_lock) and load the rest, instead of compiling them again.
     odd = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw") or 0) % 2
     order = [event_driven, warm_up, json_lines, euler, exact] if odd else [euler, exact, json_lines]
-    for compile_or_load in order + ([] if odd else [event_driven, warm_up]):
+    for compile_or_load in order + ([contacts] if odd else [event_driven, warm_up, contacts]):
         compile_or_load()

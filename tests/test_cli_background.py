@@ -4,13 +4,11 @@ from __future__ import annotations
 
 import threading
 import time
-from pathlib import Path
 from typing import Any
 
 import pytest
 
 from collisionlab.cli.background import DEPTH, BackgroundObserver
-from tests.cli_helpers import PILE_ON_A_SLOPE
 
 
 class Recorder:
@@ -126,36 +124,15 @@ def test_leaving_early_drops_the_waiting_calls_and_joins_the_thread() -> None:
     assert _writer_threads() == []
 
 
-@pytest.mark.parametrize("mode", ["euler", "exact"])
-def test_the_compiled_kernels_let_the_writers_thread_run_meanwhile(tmp_path: Path, mode: str) -> None:
+@pytest.mark.parametrize(
+    "module, entry",
+    [("kernels", "run_steps"), ("exact_kernels", "run_exact_steps"), ("contact_kernels", "run_contact_steps")],
+)
+def test_the_compiled_kernels_release_the_gil_so_the_writers_thread_runs_meanwhile(module: str, entry: str) -> None:
     # The overlap rests on the kernels releasing the GIL (compiled with nogil): another Python
-    # thread then runs while a chunk of steps does. Holding it, no bytecode of the other thread
-    # could run between the call's start and end (at most a switch just before the call).
-    from collisionlab.engine import WorldParams
-    from collisionlab.engine.world import World
-    from collisionlab.scenario_file import load_scenario
+    # thread then runs while a chunk of steps does. (Counting what that thread did within one
+    # call measured the machine's load, not this: a flaky test, so the option itself is read.)
+    from collisionlab.engine import compiled
 
-    path = tmp_path / "pile.toml"
-    path.write_text(PILE_ON_A_SLOPE.format(mode=mode, steps=100))
-    world = World(load_scenario(str(path)), WorldParams(compiled=True))
-    world.step(1)  # compiled or loaded before the look
-    ticks: list[float] = []
-    stop = threading.Event()
-
-    def tick() -> None:
-        while not stop.is_set():
-            ticks.append(time.perf_counter())
-            time.sleep(0.0005)
-
-    thread = threading.Thread(target=tick)
-    thread.start()
-    try:
-        time.sleep(0.01)
-        start = time.perf_counter()
-        world.step(99)  # one compiled call
-        end = time.perf_counter()
-    finally:
-        stop.set()
-        thread.join()
-    inside = [t for t in ticks if start < t < end]
-    assert len(inside) >= 3, (len(inside), end - start)
+    kernel = getattr(getattr(compiled, module)(), entry)
+    assert kernel.targetoptions["nogil"] is True

@@ -21,10 +21,11 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
 
     monkeypatch.setattr(compiled, "forget_stale", spy)
     compiled._forget_stale()
-    assert set(dropped) == {"geometry_kernels", "step_kernels", "exact_kernels"}
+    assert set(dropped) == {"geometry_kernels", "event_heap", "step_kernels", "exact_kernels", "contact_kernels"}
     assert "geometry_kernels.py" in dropped["geometry_kernels"]
     assert {"step_kernels.py", "geometry_kernels.py"} <= set(dropped["step_kernels"])
-    assert {"exact_kernels.py", "step_kernels.py", "geometry_kernels.py"} <= set(dropped["exact_kernels"])
+    for stepper in ("exact_kernels", "contact_kernels"):
+        assert {f"{stepper}.py", "step_kernels.py", "geometry_kernels.py", "event_heap.py"} <= set(dropped[stepper])
     assert all({"compiled.py", "tolerances.py", "limits.py"} <= set(names) for names in dropped.values())
 
 

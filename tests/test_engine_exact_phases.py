@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from collisionlab.engine import compiled, exact_kernels, geometry_kernels, step_kernels
+from collisionlab.engine import compiled, event_heap, exact_kernels, geometry_kernels, step_kernels
 from collisionlab.engine.params import WorldParams
 from collisionlab.engine.world import World
 from collisionlab.scenario_file import parse_scenario
@@ -95,7 +95,7 @@ def _filled_heap(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, np
         key = int(rng.integers(0, 2 * count))
         ver[key] += 1  # each push takes a new version, as the stepper's do
         when = float(rng.choice([0.25, 0.5, rng.random()]))  # ties in time too
-        size = exact_kernels._heap_push(ht, hk, hv, size, when, key, int(ver[key]))
+        size = event_heap.heap_push(ht, hk, hv, size, when, key, int(ver[key]))
     return ht, hk, hv, size, ver
 
 
@@ -104,22 +104,22 @@ def test_a_full_heap_compacts_in_place_to_its_current_entries_in_time_order(seed
     ht, hk, hv, size, ver = _filled_heap(seed)
     current = sorted((ht[i], hk[i]) for i in range(size) if hv[i] == ver[hk[i]])
     arrays = (ht, hk, hv)
-    size = exact_kernels._heap_compact(ht, hk, hv, size, ver)
+    size = event_heap.heap_compact(ht, hk, hv, size, ver)
     assert size == len(current) <= ht.shape[0] // 2  # room for half the heap again
     assert all(a is b for a, b in zip(arrays, (ht, hk, hv), strict=True))  # nothing new allocated
     popped = []
     while size > 0:
         popped.append((ht[0], hk[0]))
         assert hv[0] == ver[hk[0]]
-        size = exact_kernels._heap_pop(ht, hk, hv, size)
+        size = event_heap.heap_pop(ht, hk, hv, size)
     assert popped == current  # oracle: sorting by (time, key)
 
 
 def test_a_heap_with_room_is_left_as_it_is() -> None:
     ht, hk, hv, size, ver = _filled_heap(0)
-    size = exact_kernels._heap_pop(ht, hk, hv, size)
+    size = event_heap.heap_pop(ht, hk, hv, size)
     before = (ht.copy(), hk.copy(), hv.copy())
-    assert exact_kernels._heap_compact(ht, hk, hv, size, ver) == size
+    assert event_heap.heap_compact(ht, hk, hv, size, ver) == size
     assert all(np.array_equal(a, b) for a, b in zip(before, (ht, hk, hv), strict=True))
 
 

@@ -38,6 +38,11 @@ __all__ = [
 ObstacleShape = Line | Plane | AABB
 Mode = Literal["euler", "exact"]
 MODES: tuple[Mode, ...] = ("euler", "exact")
+Contacts = Literal["events", "solve"]
+#: How exact mode treats contacts: ``"events"``, every touch an impact at its time of impact
+#: (:mod:`collisionlab.engine.exact_kernels`); ``"solve"``, impacts as events and slow or resting
+#: contacts solved together at mid-step, bodies at rest asleep (:mod:`collisionlab.engine.contact_kernels`).
+CONTACTS: tuple[Contacts, ...] = ("events", "solve")
 Boundary = Literal["walls", "periodic"]
 #: A vector as a box's corners take it: a :class:`Vector3D`, or 2 or 3 numbers.
 VectorLike = Vector3D | Sequence[float]
@@ -67,7 +72,9 @@ class Settings:
     ``"exact"`` (time of impact: nothing tunnels). ``tc`` (s) is the TC model's time of the
     event-driven stepper (balls in a box, see :attr:`Scenario.event_driven`): a collision of a
     body that collided less than ``tc`` ago is elastic; ``None`` gives ``DEFAULT_TC_STEPS * dt``
-    when some collision is inelastic or under gravity (inelastic collapse), else 0."""
+    when some collision is inelastic or under gravity (inelastic collapse), else 0. ``contacts``
+    (exact mode): ``"events"`` or ``"solve"`` (:data:`CONTACTS`; piles, pours and stacks want
+    ``"solve"``)."""
 
     dt: float = 0.01
     steps: int = 100
@@ -75,6 +82,7 @@ class Settings:
     gravity: Vector3D = field(default_factory=lambda: Vector3D(0.0, 0.0, 0.0))
     mode: Mode = "euler"
     tc: float | None = None
+    contacts: Contacts = "events"
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "dt", positive(self.dt, "dt"))
@@ -85,6 +93,8 @@ class Settings:
             raise InvalidInputError("mode", "must be 'euler' or 'exact'", got=self.mode)
         if self.tc is not None:
             object.__setattr__(self, "tc", non_negative(self.tc, "tc"))
+        if self.contacts not in CONTACTS:
+            raise InvalidInputError("contacts", "must be 'events' or 'solve'", got=self.contacts)
 
 
 @dataclass(frozen=True, init=False)

@@ -521,6 +521,12 @@ class RunRecord:
     #: Collisions counted by the world, kept or not (a run streamed to an observer with
     #: ``keep=False`` keeps no events, only this count; see :attr:`collision_total`).
     collision_count: int = 0
+    #: Each static's total impulse on the moving bodies over the run (N s, by name), when the
+    #: stepper measures it (the contact solver); ``None`` otherwise. Their sum balances momentum:
+    #: ``P_end - P_start - M g T`` (``M`` the bodies of finite mass).
+    static_impulses: dict[str, list[float]] | None = None
+    #: How exact mode treated contacts (``Settings.contacts``): ``"events"`` or ``"solve"``.
+    contacts: str = "events"
 
     @property
     def collision_total(self) -> int:
@@ -623,6 +629,7 @@ class RunRecord:
             "momentum_end": _vec(self.ledger.momentum_end),
             "kinetic_energy_start": self.ledger.kinetic_start,
             "kinetic_energy_end": self.ledger.kinetic_end,
+            **({} if self.static_impulses is None else {"static_impulses": self.static_impulses}),
         }
 
     def replay(self, observer: RunObserver) -> None:
@@ -656,6 +663,7 @@ class RunRecord:
                 "steps": self.steps,
                 "restitution": self.restitution,
                 "gravity": _vec(self.gravity),
+                **({"contacts": self.contacts} if self.contacts != "events" else {}),
             },
         }
 

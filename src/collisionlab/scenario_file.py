@@ -27,7 +27,7 @@ __all__ = ["SCENARIO_FIELDS", "ScenarioError", "load_scenario", "parse_scenario"
 
 T = TypeVar("T")
 
-_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title", "allow_initial_overlap", "tc"}
+_SIMULATION_KEYS = {"dt", "steps", "restitution", "gravity", "mode", "title", "allow_initial_overlap", "tc", "contacts"}
 _BOX_KEYS = {"region", "boundary"}
 _BODY_KEYS = {"name", "shape", "position", "radius", "size", "velocity", "mass", "restitution"}
 _STATIC_KEYS = {"name", "shape", "point", "normal", "points", "direction", "position", "size", "restitution"}
@@ -400,6 +400,8 @@ def scenario_to_toml(scenario: Scenario) -> str:
         lines.append("allow_initial_overlap = true")
     if s.tc is not None:
         lines.append(f"tc = {_fmt(s.tc)}")
+    if s.contacts != "events":
+        lines.append(f"contacts = {_str(s.contacts)}")
     tables: list[str] = []
     for part in scenario.bodies.parts:
         if isinstance(part, BodyBlock) and part.spec is not None:

@@ -16,7 +16,10 @@ __all__ = [
     "ISCLOSE_REL_TOL",
     "PICTURE_MIN_SPAN",
     "REST_SPEED",
+    "SLEEP_SPEED",
+    "SLEEP_TIME",
     "SOLVER_MARGIN",
+    "SOLVER_TOLERANCE",
     "TOI_GAP",
     "TOI_TOUCH",
 ]
@@ -58,6 +61,19 @@ SOLVER_MARGIN: float = 2e-9
 #: is small so that the lab's constant-velocity cases are never affected.
 REST_SPEED: float = 1e-3
 
+
+#: Metres per second. The contact solver (``contacts = "solve"``) sweeps its impulses until no
+#: sweep changes a pair's normal velocity by more than this: far below any speed a scene means
+#: (a body creeping at it for a day moves 0.1 um) and above the rounding of a sweep at human
+#: scale (about 1e-16 m/s per m/s of speed).
+SOLVER_TOLERANCE: float = 1e-9
+
+#: Metres per second and seconds. The contact solver puts an island of bodies to sleep when it
+#: rests on a static and every body in it has stayed slower than ``SLEEP_SPEED`` for
+#: ``SLEEP_TIME`` (Box2D's ``b2_timeToSleep`` is 0.5 s, its threshold 5 cm/s; ours is five times
+#: lower). A body that floats free never sleeps, however slow: it drifts on, as it should.
+SLEEP_SPEED: float = 1e-2
+SLEEP_TIME: float = 0.5
 
 #: Metres. A pair that has collided stays "in contact" (its next impulse is not a new impact
 #: and is not reported again) until its distance grows beyond this. It also decides when a body

@@ -64,6 +64,12 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
         help="stepping: the lab's Forward Euler, or exact time of impact (nothing tunnels); overrides the scenario",
     )
     parser.add_argument(
+        "--contacts",
+        choices=("events", "solve"),
+        help="exact mode: every touch an impact (events), or resting contacts solved and bodies at rest asleep "
+        "(solve: piles, pours, stacks); overrides the scenario",
+    )
+    parser.add_argument(
         "--restitution",
         type=restitution_flag,
         metavar="E",
@@ -162,7 +168,9 @@ def execute(
         plotting.check_paths(args.plot, args.animate, args.html)  # fail now, not after the run
     if args.output is not None:
         check_target(args.output, "--output")  # as the pictures: before the run
-    overrides = {k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution") if getattr(args, k) is not None}
+    overrides = {
+        k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution", "contacts") if getattr(args, k) is not None
+    }
     pictures = bool(args.plot or args.animate or args.html)
     listed = args.format == "json" and len(scenarios) > 1
     # The writers stream into a temporary file (disk, not memory: a run's frames and events are

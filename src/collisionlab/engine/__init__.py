@@ -12,6 +12,10 @@ Euler) or exactly.
   calls (scratch, the pairs in contact, buffers) and the one call that advances it.
 * :mod:`.exact_kernels` - the exact stepper over the same arrays (times of impact within each
   step, earliest first from an event calendar); :mod:`.exact_stepper` keeps its state between calls.
+* :mod:`.contact_kernels` - exact mode with ``contacts = "solve"``: impacts at their time of
+  impact, slow and resting contacts solved together at mid-step (warm-started projected
+  Gauss-Seidel), bodies at rest asleep; :mod:`.contact_stepper` keeps its state between calls.
+* :mod:`.event_heap` - the exact steppers' event calendar.
 * :mod:`.event_stepper` - balls in a box run event by event (the loop of
   :mod:`collisionlab.edmd`: neighbour lists, an event calendar), for ``mode = "exact"``.
 * :mod:`.world` - :class:`World`: owns the state, steps it, records what happened and tells it

@@ -35,7 +35,8 @@ from ..model import Scenario
 from ..numba_cache import compile_lock, gc_paused
 from ..record import EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
-from . import exact_kernels, step_kernels
+from . import contact_kernels, exact_kernels, step_kernels
+from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_kernels import MAX_IMPACTS_PER_STEP
 from .exact_stepper import ExactStepper
@@ -116,6 +117,7 @@ class World:
             gravity=settings.gravity,
             dims=scenario.dims,
             scenario=scenario,
+            contacts=settings.contacts,
         )
         ledger = self.record.ledger
         ledger.kinetic_start = ledger.kinetic_end = self.kinetic_energy()
@@ -126,10 +128,14 @@ class World:
             self.record.warnings.append(warning)
         n = self._bodies.n
         self._exact = settings.mode == "exact"
+        #: Exact mode with its contacts solved (``contacts = "solve"``): the contact stepper.
+        self._solving = self._exact and settings.contacts == "solve" and not scenario.event_driven
         self._impact_limit_warned = False
         self._check_initial_overlap()
-        self._stepper: EulerStepper | EventDrivenStepper
-        if scenario.event_driven:
+        self._stepper: EulerStepper | EventDrivenStepper | ContactStepper
+        if self._solving:
+            self._stepper = ContactStepper(self._bodies, self._statics, self.dims, self._gravity, self.params, events)
+        elif scenario.event_driven:
             assert scenario.box is not None
             self._stepper = EventDrivenStepper(
                 self._bodies, self._statics, self.dims, self._gravity, self.params, scenario.box,
@@ -158,7 +164,7 @@ class World:
         return self._stepper.nbytes()
 
     @property
-    def stepper(self) -> EulerStepper | EventDrivenStepper:
+    def stepper(self) -> EulerStepper | EventDrivenStepper | ContactStepper:
         """What steps the state: the Forward Euler, exact or event-driven stepper (its arrays and
         counters, for measurements such as a gas's collision virial)."""
         return self._stepper
@@ -321,13 +327,17 @@ class World:
 
     # --- stepping -------------------------------------------------------------------------------
     def _compiled_kernels(self, exact: bool = True) -> Any:
-        """The compiled step kernels, or (``exact`` in exact mode) the compiled exact kernels."""
+        """The compiled step kernels, or (``exact`` in exact mode) the compiled exact or contact
+        kernels."""
         from . import compiled
 
         exact = exact and self._exact
         if exact not in self._kernels:
             with gc_paused():  # numba's import, its registries
-                self._kernels[exact] = compiled.exact_kernels() if exact else compiled.kernels()
+                if not exact:
+                    self._kernels[exact] = compiled.kernels()
+                else:
+                    self._kernels[exact] = compiled.contact_kernels() if self._solving else compiled.exact_kernels()
         return self._kernels[exact]
 
     def _first_call(self, kernels: ModuleType, entry: str) -> contextlib.AbstractContextManager[Any]:
@@ -351,7 +361,7 @@ class World:
             self._said_compiling = True
             # The exact stepper's kernel compiles after the step kernels the check of overlaps
             # calls: the notice says what the whole run will wait (on 2 cores, bench/README.md).
-            exact = self._exact and not self.scenario.event_driven
+            exact = self._exact and not self.scenario.event_driven and not self._solving
             exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
             took = "about three minutes" if exact else "about a minute"
             self._notify(f"compiling the engine's kernels (once per machine; {took})...")
@@ -384,6 +394,16 @@ class World:
         if isinstance(stepper, EventDrivenStepper):
             self._advance(steps, None)  # its own compiled loop: no step kernels
             return
+        if isinstance(stepper, ContactStepper):
+            limited = int(stepper.status[0])
+            self._advance(steps, self._compiled_kernels() if self._compiled else contact_kernels)
+            if int(stepper.status[0]) > limited and not self._impact_limit_warned:
+                self._impact_limit_warned = True
+                self.record.warnings.append(
+                    f"more than {contact_kernels.MAX_IMPACTS_PER_STEP} impacts in a half step before step "
+                    f"{self.step_index}: the rest of it flew without them (said once)"
+                )
+            return
         assert isinstance(stepper, ExactStepper)
         limited = int(stepper.status[0])
         self._advance(steps, self._compiled_kernels() if self._compiled else exact_kernels)
@@ -402,7 +422,7 @@ class World:
         """Advance ``steps`` steps with the stepper and ``kernels`` (its Python or compiled form)
         and take the ledger's sums and the events."""
         settings = self.scenario.settings
-        entry = "run_exact_steps" if self._exact else "run_steps"
+        entry = ("run_contact_steps" if self._solving else "run_exact_steps") if self._exact else "run_steps"
         with contextlib.nullcontext() if kernels is None else self._first_call(kernels, entry):
             self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
         self.step_index += steps
@@ -415,6 +435,10 @@ class World:
         ledger.push_apart = float(sums[2])
         ledger.collisions_predicted = float(sums[3])
         ledger.max_penetration = float(sums[4])
+        if isinstance(self._stepper, ContactStepper):
+            self.record.static_impulses = dict(
+                zip(self._static_names, self._stepper.static_impulse.tolist(), strict=True)
+            )
         self._record_events(self._stepper.events())
 
     def _record_events(self, events: np.ndarray[Any, np.dtype[np.float64]]) -> None:
