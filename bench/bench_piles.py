@@ -82,7 +82,7 @@ def scenario_toml(n: int, width: float, steps: int) -> str:
             "[[body]]",
             f'name = "c{i}"',
             'shape = "circle"',
-            f"position = [{x!r}, {y!r}]",
+            f"position = [{float(x)!r}, {float(y)!r}]",
             f"radius = {RADIUS}",
             "",
         ]

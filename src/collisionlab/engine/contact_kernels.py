@@ -82,7 +82,7 @@ MAX_SOLVER_SWEEPS = 64
 #: stack's first step, where a column of k balls needs of the order of k^2 sweeps).
 COLD_SOLVER_SWEEPS = 2000
 #: Push-apart sweeps at the end of a step.
-PUSH_SWEEPS = 64
+PUSH_SWEEPS = 4
 
 
 #: Columns of a pair's float row in the solve: height (times ``|g|``), normal (3), gap at mid-step, impulse,
@@ -517,10 +517,13 @@ def _solve(
             pf[p, 1 + k] = sep[1 + k]
         pf[p, 0] = -(gravity[0] * sep[4] + gravity[1] * sep[5] + gravity[2] * sep[6])  # height x |g|
         pf[p, 4] = sep[0]
-        # The gap at the step's end is gap + v'_n h - (alpha.n) h^2 / 2 (the second half's flight):
-        # no approach past touching then; an overlap is undone by it, at up to REST_SPEED (the
-        # push-apart takes the rest), so a stack's rounding never adds up to a drift.
-        pf[p, 6] = min((0.5 * gn * h * h - sep[0]) / h, REST_SPEED)
+        # The gap at the step's end is G + v'_n h, G = gap - (alpha.n) h^2 / 2 (the second half's
+        # flight): a pair apart (G >= 0) may close it no sooner than a step later (G + v'_n 1.5 dt
+        # >= 0: it is solved again before it could touch); an overlap (G < 0) is undone by the
+        # step's end, at up to REST_SPEED (push-apart takes the rest), so a stack's rounding never
+        # adds up to a drift.
+        undipped = sep[0] - 0.5 * gn * h * h
+        pf[p, 6] = -undipped / (3.0 * h) if undipped >= 0.0 else min(-undipped / h, REST_SPEED)
         pf[p, 7] = inv_sum
         pf[p, 8] = gn * h
         found = _find(memory, memory_count[0], _key(a, b, m, n))

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from ..tolerances import CONTACT_MARGIN, CONTACT_SLOP, REST_SPEED, SOLVER_MARGIN
 from ..validate import non_negative, positive, whole_number
 
-__all__ = ["COMPILE_ABOVE", "DEFAULT_PASSES", "DEFAULT_TC_FRACTION", "WorldParams"]
+__all__ = ["COMPILE_ABOVE", "DEFAULT_PASSES", "DEFAULT_TC_FRACTION", "SOLVE_COMPILE_ABOVE", "WorldParams"]
 
 #: Most sweeps over a step's contacts, for impulses and again for push-apart. A sweep that
 #: changes nothing ends them early, so a dilute gas makes about two; a resting heap needs several
@@ -23,6 +23,11 @@ DEFAULT_TC_FRACTION = 0.01
 #: kernels run as Python (the lab's cases never wait for a compiler).
 COMPILE_ABOVE = 200_000
 
+#: The same for a world whose contacts are solved (``contacts = "solve"``): its Python form
+#: costs about a thousand times a Forward Euler body-step (bench/README.md, "Piles"), so above
+#: this a run would wait longer in Python than most do for the kernels to load.
+SOLVE_COMPILE_ABOVE = 1_000
+
 
 @dataclass(frozen=True)
 class WorldParams:
@@ -35,9 +40,10 @@ class WorldParams:
     farther apart than this. ``rest_speed``: approaches slower than this get e = 0 in a world
     with gravity (without it nothing rests, and a slow graze is a true collision).
     ``passes``: most sweeps of impulses, and of push-apart, per step. ``compiled``: ``None``
-    decides by size (:data:`COMPILE_ABOVE`), ``True``/``False`` force it. ``tc_fraction``: the
-    event-driven stepper's TC time, when the scenario gives none, as this fraction of the time
-    a typical ball takes to cross its radius (:func:`~collisionlab.engine.event_stepper.default_tc`).
+    decides by size (:data:`COMPILE_ABOVE`, :data:`SOLVE_COMPILE_ABOVE`), ``True``/``False``
+    force it. ``tc_fraction``: the event-driven stepper's TC time, when the scenario gives none,
+    as this fraction of the time a typical ball takes to cross its radius
+    (:func:`~collisionlab.engine.event_stepper.default_tc`).
 
     >>> WorldParams().passes
     8

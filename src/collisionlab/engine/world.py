@@ -40,7 +40,7 @@ from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_kernels import MAX_IMPACTS_PER_STEP
 from .exact_stepper import ExactStepper
-from .params import COMPILE_ABOVE, WorldParams
+from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
 
@@ -150,7 +150,8 @@ class World:
         self._thickness = _thickness(kinds, extents, self.dims)
         self._thinnest = float(self._thickness.min())
         compiled = self.params.compiled
-        self._compiled = n * settings.steps > COMPILE_ABOVE if compiled is None else compiled
+        above = SOLVE_COMPILE_ABOVE if self._solving else COMPILE_ABOVE
+        self._compiled = n * settings.steps > above if compiled is None else compiled
 
     def __repr__(self) -> str:
         n, m = self._bodies.n, self._statics.m
