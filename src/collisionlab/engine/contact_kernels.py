@@ -243,7 +243,7 @@ def _wake(
         if asleep[rows_i[r, 1]] == 0 and island[rows_i[r, 1]] == which:
             for k in range(3):
                 static_impulse[rows_i[r, 0], k] += held * rows_f[r, k]
-    return woke
+    return int(woke)
 
 
 # --- candidates ----------------------------------------------------------------------------------
