@@ -763,3 +763,19 @@ def test_frames_beyond_memory_are_refused_only_when_pictures_keep_them(
     kept = run_cli(["run", example("head-on"), "--steps", "200", "--plot", str(tmp_path / "p.png")])
     assert kept.status == 2 and kept.err.startswith("collisionlab: --steps: ") and "fit in memory" in kept.err
     assert not (tmp_path / "p.png").exists()
+
+
+def test_a_misspelt_built_in_name_or_key_gets_the_closest_match(tmp_path: Path) -> None:
+    result = run_cli(["run", "head-onn"])
+    assert result.status == 1
+    assert result.err == (
+        "collisionlab: head-onn: no such file or built-in scenario; did you mean 'head-on'? "
+        "(collisionlab examples lists them)\n"
+    )
+    assert "did you mean" not in run_cli(["run", "nothing-like-it"]).err  # nothing close: the plain error
+    assert "did you mean 'head-on'?" in run_cli(["demo", "head-onn"]).err
+    path = tmp_path / "typo.toml"
+    path.write_text("[simulation]\nrestitutoin = 1\n", encoding="utf-8")
+    result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert "simulation.restitutoin: unknown key; did you mean 'restitution'?" in result.err

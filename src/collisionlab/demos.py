@@ -9,7 +9,7 @@ import tomllib
 from importlib import resources
 from pathlib import Path
 
-from .errors import InvalidInputError
+from .errors import InvalidInputError, did_you_mean
 from .model import Scenario
 from .scenario_file import parse_scenario
 
@@ -49,7 +49,8 @@ def demo_names() -> list[str]:
 def demo_text(name: str) -> str:
     """The TOML text of a built-in scenario."""
     if name not in demo_names():
-        raise InvalidInputError("demo", f"unknown demo; expected one of {', '.join(demo_names())}", got=name)
+        hint = did_you_mean(name, demo_names())
+        raise InvalidInputError("demo", f"unknown demo; {hint}expected one of {', '.join(demo_names())}", got=name)
     return (_folder() / f"{name}.toml").read_text(encoding="utf-8")
 
 

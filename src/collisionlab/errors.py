@@ -6,7 +6,9 @@ names what was wrong, so that a command-line front end can print one line and no
 
 from __future__ import annotations
 
+import difflib
 import unicodedata
+from collections.abc import Iterable
 
 __all__ = [
     "MESSAGE_VALUE_CHARS",
@@ -14,9 +16,22 @@ __all__ = [
     "InvalidInputError",
     "OutOfRangeError",
     "UnsupportedPairError",
+    "did_you_mean",
     "escape_controls",
     "shorten",
 ]
+
+
+def did_you_mean(word: str, choices: Iterable[str]) -> str:
+    """``"did you mean 'X'? "`` for the choice closest to ``word`` (a typo), or ``""`` when none
+    is close (difflib's ratio at least 0.6).
+
+    >>> did_you_mean("restitutoin", ["restitution", "mode"]), did_you_mean("colour", ["mode"])
+    ("did you mean 'restitution'? ", '')
+    """
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f"did you mean {close[0]!r}? " if close else ""
+
 
 #: Characters: the longest value (or field name) an error message repeats; longer ones are cut
 #: in the middle, so a 100 MB bad value gives a one-line message, not a 100 MB line.

@@ -15,7 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .errors import CollisionLabError, InvalidInputError, escape_controls
+from .errors import CollisionLabError, InvalidInputError, did_you_mean, escape_controls
 from .gas_table import GasSpec, gas_count, place_gas
 from .limits import MAX_SCENARIO_BYTES
 from .model import Body, BodyBlock, Box, Obstacle, Scenario, Settings
@@ -85,7 +85,10 @@ def _table(source: str, data: object, field: str, allowed: set[str]) -> Mapping[
         raise ScenarioError(source, field, "must be a table")
     for key in data:
         if key not in allowed:
-            raise ScenarioError(source, f"{field}.{key}", f"unknown key; expected one of {', '.join(sorted(allowed))}")
+            hint = did_you_mean(str(key), allowed)
+            raise ScenarioError(
+                source, f"{field}.{key}", f"unknown key; {hint}expected one of {', '.join(sorted(allowed))}"
+            )
     return data
 
 

@@ -13,7 +13,7 @@ from typing import Any, TextIO, TypeVar
 from .. import limits
 from ..atomic import atomic_path, check_target
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
-from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
+from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, did_you_mean, escape_controls, shorten
 from ..model import Scenario
 from ..record import RunObserver, RunRecord
 from ..scenario_file import load_scenario
@@ -105,6 +105,13 @@ def add_run_parsers(sub: Any) -> None:
 
 def _run_file(args: argparse.Namespace, streams: Streams) -> int:
     path = args.file if Path(args.file).exists() else builtin_scenario_path(args.file) or args.file
+    if path == args.file and not Path(path).exists():  # neither a file nor a built-in: a typo?
+        hint = did_you_mean(Path(path).name.removesuffix(".toml"), demo_names())
+        if hint:
+            raise CollisionLabError(
+                f"{escape_controls(shorten(args.file))}: no such file or built-in scenario; {hint}"
+                "(collisionlab examples lists them)"
+            )
     return execute([load_scenario(path)], args, streams, sources=[args.file])
 
 
