@@ -65,10 +65,11 @@ __all__ = ["MAX_IMPACTS_PER_STEP", "MAX_SOLVER_SWEEPS", "PAIR_COLUMNS", "STATUS_
 #: The most impacts resolved within one flight; past it the flight ends without the rest (the
 #: world warns; ``status[0]`` counts such flights).
 MAX_IMPACTS_PER_STEP = 100_000
-#: The most impacts one body takes in one half step's flight; its later approaches in it are
-#: left to the solve, as slow ones are (a cluster of bodies squeezed together would otherwise
-#: collide ever faster: inelastic collapse, McNamara and Young 1992). A blow passing along a row
-#: of touching balls (Newton's cradle) takes two impacts per ball.
+#: The most impacts with e one body takes in one half step's flight: its later ones in it are
+#: perfectly inelastic (e = 0), and past four times as many its approaches are left to the
+#: solve, as slow ones are (a cluster of bodies squeezed together would otherwise collide ever
+#: faster: inelastic collapse, McNamara and Young 1992). A blow passing along a row of touching
+#: balls (Newton's cradle) takes two impacts per ball.
 MAX_BODY_IMPACTS = 8
 #: The calendar has room for this many entries per candidate pair (and 2 more): a full one is
 #: compacted (:func:`~collisionlab.engine.event_heap.heap_compact`) to at most the current ones.
@@ -395,8 +396,9 @@ def _flight(
         vn = 0.0
         for k in range(3):
             vn += (vel[b, k] - (vel[a, k] if a >= 0 else 0.0)) * sep[1 + k]
-        if -vn <= rest_speed or hits[b] >= MAX_BODY_IMPACTS or (a >= 0 and hits[a] >= MAX_BODY_IMPACTS):
-            continue  # a slow approach, or a body in a collapsing cluster: the solve's
+        most = max(hits[b], hits[a] if a >= 0 else 0)
+        if -vn <= rest_speed or most >= 4 * MAX_BODY_IMPACTS:
+            continue  # a slow approach, or a body in a cluster that will not stop: the solve's
         sleeper = b if asleep[b] != 0 else (a if a >= 0 and asleep[a] != 0 else -1)
         if sleeper >= 0:
             _wake(island, asleep, acc, ima, gravity, tau, t, island[sleeper], rows_i, rows_f, row_count,
@@ -407,7 +409,7 @@ def _flight(
         inv_sum = ima_a + ima[b]
         if inv_sum == 0.0:
             continue
-        e = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
+        e = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default) if most < MAX_BODY_IMPACTS else 0.0
         j = gk.impulse_magnitude(vn, inv_sum, e)
         kinetic = 0.0
         for k in range(3):
