@@ -17,22 +17,25 @@ One step of ``dt`` (``h = dt / 2``), in this fixed order:
    the rest speed ``v_rest`` is an impact: ``j = -(1 + e) v_n / (1/m_a + 1/m_b)`` (lab eqs. 12,
    15, 24), an event, and the pair's bodies have their other pairs predicted again (a row of
    touching balls passes a blow along, one impact after another, as in Newton's cradle). A slower
-   approach is no event: it is left to the solve.
+   approach is no event: it is left to the solve. A body's impacts past ``MAX_BODY_IMPACTS`` in
+   one half step are perfectly inelastic (a collapsing cluster).
 3. **Solve at mid-step** (Moreau's midpoint scheme; Moreau 1988, Jean 1999): every candidate
-   pair touching, or approaching slower than ``v_rest`` and near enough to close its gap within
-   ``dt``, is a contact. Their normal impulses ``P >= 0`` are found together by projected
-   Gauss-Seidel (sequential impulses, Catto 2005) so that each pair's normal velocity at the end
-   of the step is at least ``-max(gap, 0) / dt``: no approach for a pair in contact, and a pair
-   still apart stops where it touches (a speculative contact, as in Box2D v3). The impulses start
-   from the last step's (contact memory, keyed by the pair) and are swept until no velocity
-   changes by more than ``SOLVER_TOLERANCE``. A body at rest on a support gets ``-g h`` at
-   mid-step, which its flight turns into 0 by the step's end: an impulse applied at mid-step
-   between two exact half flights is Moreau's ``x' = x + (v + v') dt / 2``, ``v' = v + g dt +
-   P / m``, so free flight stays exact and a support does no work on a body at rest.
+   pair touching, or apart and approaching slower than ``v_rest``, is a contact. Their normal
+   impulses ``P >= 0`` are found together by projected Gauss-Seidel (sequential impulses, Catto
+   2005) so that no pair overlaps by the step's end: a pair in contact stops approaching, an
+   overlap is undone by the step's end (at up to ``REST_SPEED``), and a pair still apart may
+   close its gap no sooner than it is solved again (a speculative contact, as in Box2D v3). The
+   impulses start from the last step's (contact memory, keyed by the pair), lowest contacts
+   first, and are swept until no velocity changes by more than ``SOLVER_TOLERANCE``, each sweep
+   followed by a nonsmooth conjugate-gradient step (NNCG: Silcowitz, Niebe and Erleben 2010). A
+   body at rest on a support gets ``-g h`` at mid-step, which its flight turns into 0 by the
+   step's end: an impulse applied at mid-step between two exact half flights is Moreau's
+   ``x' = x + (v + v') dt / 2``, ``v' = v + g dt + P / m``, so free flight stays exact and a
+   support does no work on a body at rest.
 4. **Flight to the step's end**, with impacts as in 2.
-5. **End of the step**: overlaps left (a slow approach in flight, the solve's residual) are
-   pushed apart to ``slop`` without touching velocities (the energy in the ledger's push-apart
-   column); then **sleep**: bodies joined by contacts form islands (union-find). An island that
+5. **End of the step**: overlaps deeper than ``slop`` left (the solve's residual) are pushed
+   apart, ``PUSH_SWEEPS`` sweeps, without touching velocities (the energy in the ledger's
+   push-apart column); then **sleep**: bodies joined by contacts form islands (union-find). An island that
    touches a static, holds no kinematic body, and whose bodies all stayed slower than
    ``SLEEP_SPEED`` for ``SLEEP_TIME`` falls asleep: it no longer flies, is solved or listed
    against itself, and its supports go on carrying exactly its weight (``static_impulses``). An
@@ -84,11 +87,9 @@ MAX_SOLVER_SWEEPS = 64
 COLD_SOLVER_SWEEPS = 2000
 #: Push-apart sweeps at the end of a step.
 PUSH_SWEEPS = 4
-
-
-#: Columns of a pair's float row in the solve: height (times ``|g|``), normal (3), gap at mid-step, impulse,
-#: target normal velocity, inverse mass sum, what the relative acceleration adds to the normal
-#: velocity by the step's end.
+#: Columns of a pair's float row in the solve: height (times ``|g|``), normal (3), gap at
+#: mid-step, impulse, target normal velocity, inverse mass sum, what the relative acceleration
+#: adds to the normal velocity by the step's end.
 PAIR_COLUMNS = 9
 #: Counters returned to the world: flights that hit MAX_IMPACTS_PER_STEP, impacts, solves that
 #: hit MAX_SOLVER_SWEEPS, listings, bodies asleep now, sweeps of the solves.
