@@ -177,6 +177,24 @@ def test_an_output_in_a_missing_folder_is_refused_before_a_cluster_starts(
     )
 
 
+@pytest.mark.parametrize("named", ["x.csv", "x.parquet", "x"])
+def test_an_output_that_names_the_csv_or_parquet_file_writes_that_pair(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, named: str
+) -> None:
+    # "--output /tmp/sweep.csv" wrote sweep.csv.csv and sweep.csv.parquet (issue 28). The files a
+    # sweep would write are the ones its check of the folder names (no cluster needed for that).
+    from collisionlab.sweep import runner
+
+    def no_cluster(*_: object) -> None:
+        raise AssertionError("a cluster was started")
+
+    monkeypatch.setattr(runner, "dask_client", no_cluster)
+    target = tmp_path / "missing" / named
+    result = run_cli(["sweep", str(EXAMPLES / "sweep-dt.toml"), "--output", str(target)])
+    assert result.status == 2
+    assert f"cannot write {tmp_path / 'missing' / 'x.csv'}:" in result.err
+
+
 @pytest.mark.parametrize(("signum", "status"), [(signal.SIGTERM, 143), (signal.SIGHUP, 129)])
 def test_sigterm_and_sighup_stop_a_sweep_as_ctrl_c_with_their_own_status(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, signum: int, status: int

@@ -42,7 +42,9 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     )
     parser.add_argument("file", metavar="FILE.toml", help="the sweep file")
     parser.add_argument(
-        "--output", metavar="PREFIX", help="write PREFIX.csv and PREFIX.parquet (default: the file's name, here)"
+        "--output",
+        metavar="PREFIX",
+        help="write PREFIX.csv and PREFIX.parquet (default: the file's name, here); x.csv or x.parquet writes both",
     )
     parser.add_argument("--workers", type=positive_int, metavar="N", help="local workers (default: one per core)")
     parser.add_argument("--scheduler", metavar="tcp://HOST:PORT", help="use the running Dask cluster at this address")
@@ -110,6 +112,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
 
         check_plot_path(args.plot)  # a bad path fails now, not after the sweep
     prefix = args.output or Path(args.file).stem
+    if Path(prefix).suffix in (".csv", ".parquet"):  # a file named: the pair beside it, not x.csv.csv
+        prefix = str(Path(prefix).with_suffix(""))
     columns = table_columns(spec)
     store = ResultStore(prefix, columns)
     for path in (store.csv_path, store.parquet_path):  # as run --output: checked before the sweep
