@@ -177,6 +177,23 @@ def test_an_output_in_a_missing_folder_is_refused_before_a_cluster_starts(
     )
 
 
+def test_a_shipped_sweep_runs_by_name_from_any_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # "collisionlab sweep sweep-restitution" failed from another folder (issue 28); the file is
+    # found and read when the sweep gets as far as checking where its table goes.
+    from collisionlab.sweep import runner
+
+    def no_cluster(*_: object) -> None:
+        raise AssertionError("a cluster was started")
+
+    monkeypatch.setattr(runner, "dask_client", no_cluster)
+    monkeypatch.chdir(tmp_path)
+    result = run_cli(["sweep", "sweep-restitution", "--output", str(tmp_path / "missing" / "r")])
+    assert result.status == 2
+    assert "cannot write" in result.err and "does not exist" in result.err
+    listed = run_cli(["examples"]).out
+    assert "sweep-restitution" in listed and "sweep-dt" in listed and "sweep-eos" in listed
+
+
 @pytest.mark.parametrize("named", ["x.csv", "x.parquet", "x"])
 def test_an_output_that_names_the_csv_or_parquet_file_writes_that_pair(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, named: str

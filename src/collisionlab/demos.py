@@ -17,10 +17,12 @@ __all__ = [
     "LAB_DEMOS",
     "SWEEP_PREFIX",
     "builtin_scenario_path",
+    "builtin_sweep_path",
     "copy_examples",
     "demo_names",
     "demo_text",
     "load_demo",
+    "sweep_names",
 ]
 
 #: The lab's four cases, in the lab's order: 1 AABB in 3D, 2 sphere and sphere,
@@ -71,11 +73,34 @@ def builtin_scenario_path(text: str) -> Path | None:
     >>> builtin_scenario_path("examples/head-on.toml").name, builtin_scenario_path("nothing")
     ('head-on.toml', None)
     """
+    return _shipped(text, demo_names())
+
+
+def sweep_names() -> list[str]:
+    """Every shipped sweep file (``examples/sweep-*.toml``), alphabetically."""
+    return sorted(
+        entry.name.removesuffix(".toml")
+        for entry in _folder().iterdir()
+        if entry.name.endswith(".toml") and entry.name.startswith(SWEEP_PREFIX)
+    )
+
+
+def builtin_sweep_path(text: str) -> Path | None:
+    """The shipped sweep file named by ``text``, as :func:`builtin_scenario_path` finds a
+    scenario.
+
+    >>> builtin_sweep_path("sweep-dt").name, builtin_sweep_path("head-on")
+    ('sweep-dt.toml', None)
+    """
+    return _shipped(text, sweep_names())
+
+
+def _shipped(text: str, names: list[str]) -> Path | None:
     path = Path(text)
     if path.parent not in (Path(), Path("examples")) or path.suffix not in ("", ".toml"):
         return None
     name = path.name.removesuffix(".toml")
-    if name not in demo_names():
+    if name not in names:
         return None
     return Path(str(_folder() / f"{name}.toml"))
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-from ..demos import builtin_scenario_path, copy_examples, demo_names, load_demo
+from ..demos import builtin_scenario_path, copy_examples, demo_names, load_demo, sweep_names
 from .streams import Streams
 
 __all__ = ["add_parser"]
@@ -32,6 +32,9 @@ def _examples(args: argparse.Namespace, streams: Streams) -> int:
         return 0
     for name in demo_names():
         streams.out(f"{name:<16}{load_demo(name).title}")
+    streams.out("\nsweep files (collisionlab sweep NAME):")
+    for name in sweep_names():
+        streams.out(f"  {name}")
     streams.out(f"\nshipped in {builtin_scenario_path(demo_names()[0]).parent}")  # type: ignore[union-attr]
     streams.out("run one: collisionlab run NAME; copy them: collisionlab examples --copy DIR")
     return 0

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import check_target
+from ..demos import builtin_sweep_path
 from ..errors import InvalidInputError
 from .interrupts import Stopped, remembered_interrupts
 from .progress import SHOW_AFTER
@@ -103,7 +104,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         streams.err(f"{_PROG}: --workers: only for the local cluster; a --scheduler has its own workers")
         return 2
     try:
-        spec = load_sweep(args.file)
+        spec = load_sweep(args.file if Path(args.file).exists() else builtin_sweep_path(args.file) or args.file)
     except SweepError as error:
         streams.err(f"{_PROG}: {error}")
         return EXIT_DATA
