@@ -779,3 +779,18 @@ def test_a_misspelt_built_in_name_or_key_gets_the_closest_match(tmp_path: Path) 
     result = run_cli(["run", str(path)])
     assert result.status == 65
     assert "simulation.restitutoin: unknown key; did you mean 'restitution'?" in result.err
+
+
+def test_a_mass_too_small_is_refused_in_one_line_with_no_numpy_warning(tmp_path: Path) -> None:
+    # mass = 1e-310: 1 / m overflows; numpy printed "RuntimeWarning: overflow encountered in
+    # divide" and a source line before the (right) one-line error (issue 28).
+    import warnings
+
+    path = tmp_path / "tiny.toml"
+    path.write_text('[[body]]\nname = "a"\nshape = "sphere"\nposition = [0, 0, 0]\nradius = 1\nmass = 1e-310\n')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = run_cli(["run", str(path)])
+    assert result.status == 65
+    assert "body[0].mass: must be at least" in result.err and result.err.count("\n") == 1
+    assert [str(w.message) for w in caught] == []

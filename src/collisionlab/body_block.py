@@ -283,7 +283,7 @@ class Bodies(BuiltSequence[Body]):
                 mass.append(np.array([b.mass for b in part]))
                 eb.append(np.array([math.nan if b.restitution is None else b.restitution for b in part]))
         masses = np.concatenate(mass) if mass else np.zeros(0)
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", over="ignore"):  # 1 / 1e-310: refused by the range check, later
             inverse = np.where(np.isfinite(masses), 1.0 / masses, 0.0)
         columns = BodyColumns(
             kind=np.concatenate(kinds) if kinds else np.zeros(0, np.int64),
