@@ -111,3 +111,17 @@ def test_copy_file_appends_the_whole_source_to_what_was_written(
             os.close(reader)
             written = b"".join(received).decode()
     assert written == f"head {text} middle {text} tail"
+
+
+def test_output_to_dev_stdout_goes_into_the_pipe() -> None:
+    # "--output /dev/stdout | cat" exited 1, "cannot write /dev/stdout: No such file or
+    # directory": the link was resolved to /proc/PID/fd/pipe:[N], which cannot be opened by name.
+    import subprocess
+
+    from tests.cli_helpers import SCRIPT
+
+    argv = [str(SCRIPT), "run", "head-on", "--steps", "3", "--format", "csv", "--output", "/dev/stdout"]
+    done = subprocess.run(argv, capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[1] == "0,0,0,0,0,2,0,0,4,0,0,-1,0,0"  # head-on's start, as its file says
+    assert len(done.stdout.splitlines()) == 5  # the header and steps 0 to 3

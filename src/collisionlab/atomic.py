@@ -38,6 +38,16 @@ def _umask() -> int:
     return mask
 
 
+def _special(path: str) -> bool:
+    """Whether ``path`` is (or links to) a FIFO, a device or a socket: asked of the kernel, which
+    follows ``/dev/stdout`` to a pipe (its name, ``/proc/PID/fd/pipe:[N]``, cannot be opened)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return not stat.S_ISREG(mode) and not stat.S_ISDIR(mode)
+
+
 def check_target(path: str, option: str) -> Path:
     """Before a run: ``path`` can be written (its folder exists, it is not a folder), else
     :class:`InvalidInputError` naming ``option`` and ``path``.
@@ -50,6 +60,10 @@ def check_target(path: str, option: str) -> Path:
     if not path:
         raise InvalidInputError(option, "must be a file name, not empty")
     shown = escape_controls(path)
+    if _special(path):  # written into as it is named (/dev/stdout into a pipe)
+        if not os.access(path, os.W_OK):
+            raise InvalidInputError(option, f"cannot write {shown}: permission denied")
+        return Path(path)
     target = Path(os.path.realpath(path))  # a symlink is written through: its target counts
     folder = target.parent
     if target.is_dir():
@@ -76,8 +90,8 @@ def atomic_path(target: str | Path) -> Iterator[Path]:
     device such as ``/dev/null``) cannot be replaced: the temporary file is then made in the
     system's temporary folder and, once complete, its bytes are written into ``target``."""
     given = str(target)
-    target = Path(os.path.realpath(target))
-    special = target.exists() and not target.is_file()
+    special = _special(given)
+    target = Path(given) if special else Path(os.path.realpath(target))
     try:
         mode = stat.S_IMODE(target.stat().st_mode)
     except OSError:  # a new file: what open() would give it
