@@ -125,3 +125,22 @@ def test_output_to_dev_stdout_goes_into_the_pipe() -> None:
     assert done.returncode == 0, done.stderr
     assert done.stdout.splitlines()[1] == "0,0,0,0,0,2,0,0,4,0,0,-1,0,0"  # head-on's start, as its file says
     assert len(done.stdout.splitlines()) == 5  # the header and steps 0 to 3
+
+
+def test_a_file_size_limit_names_the_output_and_leaves_no_file(tmp_path: Path) -> None:
+    # "(ulimit -f 20; collisionlab run head-on --format json --output x.json)" printed
+    # "collisionlab: : File too large": the write named no file.
+    import resource
+    import subprocess
+
+    from tests.cli_helpers import SCRIPT
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (20 * 1024, 20 * 1024))
+
+    target = tmp_path / "x.json"
+    argv = [str(SCRIPT), "run", "head-on", "--format", "json", "--output", str(target)]
+    done = subprocess.run(argv, capture_output=True, text=True, check=False, preexec_fn=limit)
+    assert done.returncode == 1
+    assert done.stderr.strip() == f"collisionlab: --output: cannot write {target}: File too large"
+    assert files_in(tmp_path) == []

@@ -116,7 +116,9 @@ def atomic_path(target: str | Path) -> Iterator[Path]:
             os.replace(temporary, target)
     except OSError as error:
         temporary.unlink(missing_ok=True)
-        if error.filename in (name, str(target)):  # about the temporary file or the target: the user's path
+        # About the temporary file or the target, or a write that names no file (a full disk,
+        # a file-size limit: the writes go to the temporary file): the user's path.
+        if error.filename in (name, str(target), None):
             raise OSError(error.errno, error.strerror or str(error), given) from None
         raise
     except BaseException:

@@ -133,7 +133,8 @@ def main(argv: Sequence[str] | None = None, streams: Streams | None = None) -> i
     except BrokenPipeError:
         return EXIT_FAILURE
     except OSError as error:
-        streams.err(f"collisionlab: {error.filename or ''}: {error.strerror or error}")
+        named = f"{error.filename}: " if error.filename else ""
+        streams.err(f"collisionlab: {named}{error.strerror or error}")
         return EXIT_FAILURE
     except Exception as error:  # a bug: still one line, no traceback, and a way to report it
         streams.err(f"collisionlab: unexpected error: {type(error).__name__}: {error} (please report this)")
