@@ -28,6 +28,7 @@ from collisionlab import (
     separation,
     supported_pairs,
 )
+from collisionlab.errors import OutOfRangeError
 from collisionlab.narrowphase import (
     separation_aabb_aabb,
     separation_circle_aabb,
@@ -529,3 +530,17 @@ def test_translating_the_scene_changes_nothing(pair: tuple[Any, Any], shift: Vec
     assume(_well_conditioned(a, b, margin=1e-6 * (_scale(a, b) + shift.length())))
     assert vec_close(after.normal, before.normal, tol=1e-6)
     assert vec_close(after.point, before.point + shift, tol=tol)
+
+
+@pytest.mark.parametrize(
+    "a, b",
+    [
+        (Sphere((0, 0, 0), 1.7e308), Sphere((0, 0, 0), 1e308)),  # r_a + r_b overflows: depth inf
+        (Sphere((-1.7e308, -1.7e308, -1e15), 1.608e308), Sphere((-1e15, 3, -1e15), 1.608e308)),  # nan
+    ],
+)
+def test_a_separation_that_overflows_is_out_of_range_not_inf_or_nan(a: Sphere, b: Sphere) -> None:
+    # Found by a fuzz harness (issue 28, escape 4): contact() returned depth inf, or nan and a
+    # zero normal.
+    with pytest.raises(OutOfRangeError, match="too large or too far apart"):
+        contact(a, b)

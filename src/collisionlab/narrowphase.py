@@ -22,12 +22,13 @@ mirrored, so ``contact(b, a) == contact(a, b).flipped()`` always holds for it.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from typing import Any
 
 from .contact import Contact, Separation
 from .engine import geometry_kernels as gk
-from .errors import UnsupportedPairError
+from .errors import OutOfRangeError, UnsupportedPairError
 from .shapes import AABB, Circle, Line, Plane, Shape, Sphere
 from .vector import Vector3D
 
@@ -51,6 +52,19 @@ __all__ = [
 
 # --- the kernels (written once, in collisionlab.engine.geometry_kernels) ----------------------
 def _separation(values: tuple[float, ...]) -> Separation:
+    """The kernel's numbers as a :class:`Separation`; numbers that overflowed (two shapes near
+    the largest double: a depth of inf, a normal of nan) raise :class:`OutOfRangeError`, so
+    no inf or NaN comes out of a query.
+
+    >>> _separation((float("inf"), 1.0, 0.0, 0.0, 0.0, 0.0, 0.0))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    collisionlab.errors.OutOfRangeError: the shapes are too large ... overflows (distance inf)
+    """
+    if not all(math.isfinite(v) for v in values):
+        raise OutOfRangeError(
+            f"the shapes are too large or too far apart to compute: their separation overflows (distance {values[0]})"
+        )
     distance, nx, ny, nz, px, py, pz = values
     return Separation(distance, Vector3D(nx, ny, nz), Vector3D(px, py, pz))
 
