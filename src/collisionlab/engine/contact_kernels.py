@@ -98,7 +98,7 @@ STATUS_SIZE = 6
 DONE = 0
 RESTART = 1
 
-INLINE = ("_at", "_sep_of", "_sep_now", "_key", "_find")
+INLINE = ("_at", "_sep_of", "_sep_now", "_key", "_find", "_kick")
 
 
 # --- flight ----------------------------------------------------------------------------------------
@@ -541,28 +541,44 @@ def _solve(
     for q in range(c):  # the warm start
         p = contacts[q]
         _apply(pairs, pf, p, vel, ima, pf[p, 5])
+    # The contacts as dense rows in sweep order, what every sweep reads in sequence: bodies;
+    # normal (3), target, inverse mass sum, the acceleration's share, impulse.
+    ca = np.empty(c, np.int64)
+    cb = np.empty(c, np.int64)
+    cf = np.empty((c, 7))
+    for q in range(c):
+        p = contacts[q]
+        ca[q] = pairs[p, 0]
+        cb[q] = pairs[p, 1]
+        for k in range(3):
+            cf[q, k] = pf[p, 1 + k]
+        cf[q, 3] = pf[p, 6]
+        cf[q, 4] = pf[p, 7]
+        cf[q, 5] = pf[p, 8]
+        cf[q, 6] = pf[p, 5]
     converged = False
-    before = np.empty(c)  # the impulses before a sweep
+    swept = np.empty(c)  # each impulse's change in the last sweep
     direction = np.zeros(c)  # the conjugate direction (NNCG)
     residual = 0.0
     sweeps = COLD_SOLVER_SWEEPS if 2 * cold > c else MAX_SOLVER_SWEEPS
     for _ in range(sweeps):
         largest = 0.0
+        last = residual
+        residual = 0.0
         for q in range(c):
-            before[q] = pf[contacts[q], 5]
-        for q in range(c):
-            p = contacts[q]
-            a = pairs[p, 0]
-            b = pairs[p, 1]
-            vn = pf[p, 8]
+            a = ca[q]
+            b = cb[q]
+            vn = cf[q, 5]
             for k in range(3):
-                vn += (vel[b, k] - (vel[a, k] if a >= 0 else 0.0)) * pf[p, 1 + k]
-            lam = max(pf[p, 5] + (pf[p, 6] - vn) / pf[p, 7], 0.0)
-            change = lam - pf[p, 5]
+                vn += (vel[b, k] - (vel[a, k] if a >= 0 else 0.0)) * cf[q, k]
+            lam = max(cf[q, 6] + (cf[q, 3] - vn) / cf[q, 4], 0.0)
+            change = lam - cf[q, 6]
+            swept[q] = change
+            residual += change * change
             if change != 0.0:
-                pf[p, 5] = lam
-                _apply(pairs, pf, p, vel, ima, change)
-                largest = max(largest, abs(change) * pf[p, 7])
+                cf[q, 6] = lam
+                _kick(vel, ima, a, b, cf, q, change)
+                largest = max(largest, abs(change) * cf[q, 4])
         status[5] += 1
         if largest <= SOLVER_TOLERANCE:
             converged = True
@@ -570,30 +586,24 @@ def _solve(
         # A nonsmooth conjugate gradient step on top of the sweep (NNCG: Silcowitz, Niebe and
         # Erleben 2010): the sweep's change is the residual; while it shrinks, the last direction
         # is followed too, and the next sweep projects again.
-        last = residual
-        residual = 0.0
-        for q in range(c):
-            d = pf[contacts[q], 5] - before[q]
-            residual += d * d
         beta = residual / last if last > 0.0 else 2.0
         for q in range(c):
-            p = contacts[q]
-            d = pf[p, 5] - before[q]
             if beta <= 1.0:
                 step = beta * direction[q]
                 if step != 0.0:
-                    pf[p, 5] += step
-                    _apply(pairs, pf, p, vel, ima, step)
-                direction[q] = step + d
+                    cf[q, 6] += step
+                    _kick(vel, ima, ca[q], cb[q], cf, q, step)
+                direction[q] = step + swept[q]
             else:
                 direction[q] = 0.0
     if not converged:
         status[2] += 1
         for q in range(c):  # the last conjugate step may have left an impulse below 0: project it
-            p = contacts[q]
-            if pf[p, 5] < 0.0:
-                _apply(pairs, pf, p, vel, ima, -pf[p, 5])
-                pf[p, 5] = 0.0
+            if cf[q, 6] < 0.0:
+                _kick(vel, ima, ca[q], cb[q], cf, q, -cf[q, 6])
+                cf[q, 6] = 0.0
+    for q in range(c):
+        pf[contacts[q], 5] = cf[q, 6]
     ledger[1] += _contact_kinetic(pairs, contacts, c, vel, ima, n) - kinetic
     kept = sk._int(0)
     for q in range(c):
@@ -625,6 +635,14 @@ def _apply(pairs: Any, pf: Any, p: int, vel: Any, ima: Any, impulse: float) -> N
         vel[b, k] += impulse * ima[b] * pf[p, 1 + k]
         if a >= 0:
             vel[a, k] -= impulse * ima[a] * pf[p, 1 + k]
+
+
+def _kick(vel: Any, ima: Any, a: int, b: int, cf: Any, q: int, impulse: float) -> None:
+    """:func:`_apply` on a dense contact row ``q`` (normal in ``cf[q, :3]``)."""
+    for k in range(3):
+        vel[b, k] += impulse * ima[b] * cf[q, k]
+        if a >= 0:
+            vel[a, k] -= impulse * ima[a] * cf[q, k]
 
 
 def _contact_kinetic(pairs: Any, contacts: Any, c: int, vel: Any, ima: Any, n: int) -> float:
