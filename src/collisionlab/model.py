@@ -268,8 +268,8 @@ class Scenario:
         if box.boundary == "periodic" and not self.event_driven:
             raise InvalidInputError(
                 "box.boundary",
-                'a periodic box needs mode = "exact" with balls of one radius and mass and no obstacles '
-                "(the event-driven stepper)",
+                'a periodic box needs mode = "exact" with balls of one radius and mass, no obstacles '
+                'and contacts = "events" (the event-driven stepper)',
             )
 
     def _representative_pairs(self, reps: list[Body]) -> list[tuple[Body | Obstacle, Body]]:
@@ -304,9 +304,10 @@ class Scenario:
         """Whether ``mode = "exact"`` runs on the event-driven stepper (:mod:`collisionlab.edmd`:
         neighbour lists, an event calendar, no time step inside a frame's span): when the scenario
         is hard balls in a box, that is a :class:`Box`, no other obstacles, balls of one kind,
-        radius and mass (finite) with no restitution of their own, and gravity none or along -y.
-        Any other exact scenario runs on the general exact stepper."""
-        if self.settings.mode != "exact" or self.box is None or self.obstacles:
+        radius and mass (finite) with no restitution of their own, and gravity none or along -y,
+        unless its contacts are solved (``contacts = "solve"``: balls poured into a box rest in
+        it). Any other exact scenario runs on the general exact stepper."""
+        if self.settings.mode != "exact" or self.settings.contacts == "solve" or self.box is None or self.obstacles:
             return False
         kinds, halves, masses, own_e = set(), set(), set(), False
         for part in self.bodies.parts:
