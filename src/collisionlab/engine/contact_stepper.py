@@ -19,11 +19,9 @@ from ..tolerances import REST_SPEED
 from . import contact_kernels, step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
+from .stepper import EventRows
 
 __all__ = ["ContactStepper", "rest_speed"]
-
-#: Rows of the event buffer kept between calls; a larger one (after a burst) is let go.
-_EVENT_ROWS_KEPT = 4096
 
 
 def rest_speed(gravity: NDArray[np.float64], dt: float, floor: float = REST_SPEED) -> float:
@@ -42,7 +40,7 @@ def rest_speed(gravity: NDArray[np.float64], dt: float, floor: float = REST_SPEE
     return max(floor, math.sqrt(float(np.dot(gravity, gravity))) * dt)
 
 
-class ContactStepper:
+class ContactStepper(EventRows):
     """Advances ``bodies`` among ``statics`` with the contact solver. The bodies stay in the order
     given. :attr:`ledger` holds ``step_kernels.LEDGER_SIZE`` running sums, :attr:`static_impulse`
     ``(m, 3)`` each static's impulse on the bodies so far, :attr:`status` the kernel's counters
@@ -57,6 +55,7 @@ class ContactStepper:
         params: WorldParams,
         record_events: bool = True,
     ) -> None:
+        super().__init__()
         n = bodies.n
         self.bodies, self.statics, self.dims, self.params = bodies, statics, dims, params
         self.gravity = np.asarray(gravity, np.float64)
@@ -81,8 +80,6 @@ class ContactStepper:
         self._rows_i = np.zeros((16, 2), np.int64)
         self._rows_f = np.zeros((16, 3))
         self._row_count = np.zeros(1, np.int64)
-        self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
-        self._event_count = np.zeros(1, np.int64)
         self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
         self.static_impulse = np.zeros((statics.m, 3))
         self.status = np.zeros(contact_kernels.STATUS_SIZE, np.int64)
@@ -110,15 +107,6 @@ class ContactStepper:
     def asleep(self) -> int:
         """How many bodies sleep now."""
         return int(self._asleep.sum())
-
-    def events(self) -> NDArray[np.float64]:
-        """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
-        return self._events[: int(self._event_count[0])]
-
-    def release_events(self) -> None:
-        """Let go of an event buffer grown by a burst (the rows have been read)."""
-        if self._events.shape[0] > _EVENT_ROWS_KEPT:
-            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
 
     def nbytes(self) -> int:
         """Bytes of every array held: state, statics, memory and buffers."""

@@ -18,7 +18,7 @@ from . import step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
 
-__all__ = ["CELLS_PER_BODY", "EulerStepper", "max_cells", "near_pairs", "stencil"]
+__all__ = ["CELLS_PER_BODY", "EulerStepper", "EventRows", "max_cells", "near_pairs", "stencil"]
 
 #: Rows of the event buffer kept between calls; a larger one (after a burst) is let go.
 _EVENT_ROWS_KEPT = 4096
@@ -52,7 +52,25 @@ def max_cells(n: int) -> int:
     return CELLS_PER_BODY * n + 64
 
 
-class EulerStepper:
+class EventRows:
+    """The event buffer a stepper's kernel fills (``step_kernels.EVENT_COLUMNS`` columns, grown
+    by the kernel in a burst) and its count, read by the world after each call."""
+
+    def __init__(self) -> None:
+        self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+        self._event_count = np.zeros(2, np.int64)
+
+    def events(self) -> NDArray[np.float64]:
+        """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
+        return self._events[: int(self._event_count[0])]
+
+    def release_events(self) -> None:
+        """Let go of an event buffer grown by a burst (the rows have been read)."""
+        if self._events.shape[0] > _EVENT_ROWS_KEPT:
+            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+
+
+class EulerStepper(EventRows):
     """Advances ``bodies`` among ``statics`` with :func:`~collisionlab.engine.step_kernels.run_steps`.
 
     ``gravity`` has three components (z = 0 in 2D). The ledger of the last call is
@@ -68,6 +86,7 @@ class EulerStepper:
         params: WorldParams,
         record_events: bool = True,
     ) -> None:
+        super().__init__()
         n = bodies.n
         self.bodies, self.statics, self.dims, self.params = bodies, statics, dims, params
         self.gravity = np.asarray(gravity, np.float64)
@@ -83,8 +102,6 @@ class EulerStepper:
         self._touch_count = np.zeros(1, np.int64)
         capacity = max(16, n // 4)  # contacts: grown by the kernel when a step has more
         self._contacts = (np.zeros(capacity, np.int64), np.zeros(capacity, np.int64), np.zeros(capacity))
-        self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
-        self._event_count = np.zeros(2, np.int64)
         self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
 
     def advance(self, kernels: ModuleType, dt: float, restitution: float, first_step: int, steps: int) -> None:
@@ -134,15 +151,6 @@ class EulerStepper:
             self.ledger,
         )
         self._contacts = (ca, cb, cd)
-
-    def events(self) -> NDArray[np.float64]:
-        """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
-        return self._events[: int(self._event_count[0])]
-
-    def release_events(self) -> None:
-        """Let go of an event buffer grown by a burst (the rows have been read)."""
-        if self._events.shape[0] > _EVENT_ROWS_KEPT:
-            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
 
     def nbytes(self) -> int:
         """Bytes of every array held: state, statics, scratch and buffers."""

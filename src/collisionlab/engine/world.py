@@ -38,7 +38,6 @@ from ..vector import Vector3D
 from . import contact_kernels, exact_kernels, step_kernels
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
-from .exact_kernels import MAX_IMPACTS_PER_STEP
 from .exact_stepper import ExactStepper
 from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .state import bodies_of, static_names, statics_of
@@ -395,24 +394,20 @@ class World:
         if isinstance(stepper, EventDrivenStepper):
             self._advance(steps, None)  # its own compiled loop: no step kernels
             return
-        if isinstance(stepper, ContactStepper):
-            limited = int(stepper.status[0])
-            self._advance(steps, self._compiled_kernels() if self._compiled else contact_kernels)
-            if int(stepper.status[0]) > limited and not self._impact_limit_warned:
-                self._impact_limit_warned = True
-                self.record.warnings.append(
-                    f"more than {contact_kernels.MAX_IMPACTS_PER_STEP} impacts in a half step before step "
-                    f"{self.step_index}: the rest of it flew without them (said once)"
-                )
-            return
-        assert isinstance(stepper, ExactStepper)
+        # Both exact steppers count in status[0] the steps (half steps) that hit their cap of
+        # impacts; the first is said once.
+        assert isinstance(stepper, (ExactStepper, ContactStepper))
+        solving = isinstance(stepper, ContactStepper)
         limited = int(stepper.status[0])
-        self._advance(steps, self._compiled_kernels() if self._compiled else exact_kernels)
+        python_form = contact_kernels if solving else exact_kernels
+        self._advance(steps, self._compiled_kernels() if self._compiled else python_form)
         if int(stepper.status[0]) > limited and not self._impact_limit_warned:
             self._impact_limit_warned = True
+            where = "a half step before step" if solving else "step"
+            most = python_form.MAX_IMPACTS_PER_STEP
             self.record.warnings.append(
-                f"more than {MAX_IMPACTS_PER_STEP} impacts in step {self.step_index}: the rest of that step was "
-                "integrated without them (said once; later steps may do the same)"
+                f"more than {most} impacts in {where} {self.step_index}: the rest of it was flown without them "
+                "(said once; later steps may do the same)"
             )
 
     def _step_euler(self, steps: int) -> None:
