@@ -62,17 +62,19 @@ SOLVER_MARGIN: float = 2e-9
 REST_SPEED: float = 1e-3
 
 
-#: Metres per second. The contact solver (``contacts = "solve"``) sweeps its impulses until no
-#: sweep changes a pair's normal velocity by more than this: far below any speed a scene means
-#: (a body creeping at it for a day moves 0.1 um) and above the rounding of a sweep at human
-#: scale (about 1e-16 m/s per m/s of speed).
+#: Metres per second. The contact solver (``contacts = "solve"``) iterates its impulses until no
+#: contact's projected gradient (how far its normal velocity misses its target, where it pushes
+#: or would need to) exceeds this: far below any speed a scene means (a body creeping at it for
+#: a day moves 0.1 um) and above the rounding of an iteration at human scale (about 1e-16 m/s per
+#: m/s of speed).
 SOLVER_TOLERANCE: float = 1e-9
 
 #: Metres per second and seconds. The contact solver puts an island of bodies to sleep when it
 #: rests on a static and every body in it has stayed slower than ``SLEEP_SPEED`` for
-#: ``SLEEP_TIME`` (Box2D's ``b2_timeToSleep`` is 0.5 s, its threshold 5 cm/s; ours is five times
-#: lower). A body that floats free never sleeps, however slow: it drifts on, as it should.
-SLEEP_SPEED: float = 1e-2
+#: ``SLEEP_TIME`` (Box2D's ``b2_timeToSleep`` and threshold, 0.5 s and 5 cm/s). What kinetic
+#: energy the island still had is booked as a collision loss. A body that floats free never
+#: sleeps, however slow: it drifts on, as it should.
+SLEEP_SPEED: float = 5e-2
 SLEEP_TIME: float = 0.5
 
 #: Metres. A pair that has collided stays "in contact" (its next impulse is not a new impact
