@@ -177,10 +177,9 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     if gas.restitution > 1.0:
         streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
     bar = ProgressBar(streams, label="gas time")
-    interactive = bool(streams.interactive) and notes
     try:
         with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the loop
-            between = between_chunks(pending, bar if interactive else None)
+            between = between_chunks(pending, bar if notes else None)
             if args.events is not None:
                 with event_file(args.events) as sink:
                     world.listen(sink)
@@ -235,7 +234,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     bar = ProgressBar(streams, label="gas steps")
     try:
         with interrupts_for(world.compiled) as pending:  # compiled: looked for between chunks
-            seconds = world.advance(steps, between_chunks(pending, bar if streams.interactive and notes else None))
+            seconds = world.advance(steps, between_chunks(pending, bar if notes else None))
     except OutOfRangeError as err:
         streams.err(f"{_PROG}: {err}")
         return 65

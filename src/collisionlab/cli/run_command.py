@@ -78,7 +78,9 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--every", type=positive_int, default=1, metavar="K", help="print every K-th step")
     parser.add_argument("--format", choices=("table", "csv", "json"), default="table", help="output format")
     parser.add_argument("--output", metavar="FILE", help="write the output to FILE (atomically) instead of stdout")
-    parser.add_argument("--quiet", action="store_true", help="table: collisions and summary only, no positions")
+    parser.add_argument(
+        "--quiet", action="store_true", help="table: collisions and summary only, no positions; no progress on stderr"
+    )
     parser.add_argument("--explain", action="store_true", help="show the working of every collision")
     parser.add_argument("--plot", metavar="FILE.png", help="save trajectories and energy over time as a picture")
     parser.add_argument("--animate", metavar="FILE.gif", help="save an animation (.gif, or .mp4 with ffmpeg)")
@@ -199,7 +201,7 @@ def execute(
             if index:
                 spool.write(",\n" if args.format == "json" else "\n")
             writer = writer_for(args.format, spool, args.every, args.quiet, args.explain, streams.err)
-            bar = ProgressBar(streams, scenario.title)
+            bar = ProgressBar(streams, scenario.title, quiet=args.quiet)
             try:
                 # Only pictures need the whole record; the output is written as the run goes.
                 world = World(scenario, notify=streams.err)
