@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, TextIO, TypeVar
 
 from .. import limits
-from ..atomic import atomic_path, check_target
+from ..atomic import atomic_stream, check_target
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, did_you_mean, escape_controls, shorten
 from ..model import Scenario
@@ -235,7 +235,7 @@ def execute(
 @contextlib.contextmanager
 def _spool(output: str | None) -> Iterator[TextIO]:
     """The file the writers write to. With ``--output``: the temporary file beside it that
-    replaces it once every run has succeeded (:func:`~collisionlab.atomic.atomic_path`: on an
+    replaces it once every run has succeeded (:func:`~collisionlab.atomic.atomic_stream`: on an
     error or Ctrl-C it is removed and ``output`` is left as it was; a FIFO or a device is written
     through at the end), so the output is written to disk once. Else an unnamed temporary file,
     copied to stdout at the end by the caller."""
@@ -244,10 +244,10 @@ def _spool(output: str | None) -> Iterator[TextIO]:
             yield spool
         return
     try:
-        with atomic_path(output) as temporary, open(temporary, "w", encoding="utf-8") as spool:
+        with atomic_stream(output) as spool:
             yield spool
     except OSError as error:
-        if error.filename != output:  # not about the output (atomic_path names it so): as it is
+        if error.filename != output:  # not about the output (atomic_stream names it so): as it is
             raise
         raise CollisionLabError(
             f"--output: cannot write {escape_controls(output)}: {error.strerror or error}"
