@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import io
 import os
+import signal
 import stat
 import tempfile
 import threading
@@ -144,3 +145,60 @@ def test_a_file_size_limit_names_the_output_and_leaves_no_file(tmp_path: Path) -
     assert done.returncode == 1
     assert done.stderr.strip() == f"collisionlab: --output: cannot write {target}: File too large"
     assert files_in(tmp_path) == []
+
+
+def _killed_mid_write(target: Path) -> None:
+    """A child process that starts writing ``target`` through atomic_stream and is killed
+    (SIGKILL: no handler, no clean-up runs) in the middle of it."""
+    pid = os.fork()
+    if pid == 0:  # the child: write, then die at once
+        try:
+            with atomic.atomic_stream(target) as stream:
+                stream.write("half of it\n")
+                stream.flush()
+                os.kill(os.getpid(), signal.SIGKILL)
+        finally:
+            os._exit(1)  # never reached: the kill is immediate
+    _, status = os.waitpid(pid, 0)
+    assert os.WIFSIGNALED(status) and os.WTERMSIG(status) == signal.SIGKILL
+
+
+@pytest.mark.skipif(not atomic._O_TMPFILE or not os.path.isdir(atomic._FD_LINKS), reason="no O_TMPFILE here")
+def test_a_stream_killed_mid_write_leaves_nothing_beside_the_target(tmp_path: Path) -> None:
+    # atomic_path's named temporary file stays behind after a SIGKILL (".out.rowot2cp.tmp.txt");
+    # with O_TMPFILE the file has no name until it is complete.
+    target = tmp_path / "out.txt"
+    _killed_mid_write(target)
+    assert files_in(tmp_path) == []
+    target.write_text("old")
+    _killed_mid_write(target)
+    assert files_in(tmp_path) == ["out.txt"] and target.read_text() == "old"
+
+
+@pytest.mark.parametrize("unnamed", [True, False])
+def test_a_stream_replaces_the_target_whole_keeping_its_mode_and_links(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, unnamed: bool
+) -> None:
+    if not unnamed:  # a system without O_TMPFILE: a named temporary file, as atomic_path
+        monkeypatch.setattr(atomic, "_O_TMPFILE", 0)
+    target = tmp_path / "data.txt"
+    target.write_text("old")
+    target.chmod(0o640)
+    link = tmp_path / "link.txt"
+    link.symlink_to(target.name)
+    with atomic.atomic_stream(link) as stream:
+        stream.write("new")
+        assert target.read_text() == "old"  # nothing replaced before the end
+    assert link.is_symlink() and target.read_text() == "new"
+    assert stat.S_IMODE(target.stat().st_mode) == 0o640
+    with pytest.raises(KeyboardInterrupt), atomic.atomic_stream(target) as stream:
+        stream.write("half")
+        raise KeyboardInterrupt
+    assert target.read_text() == "new" and files_in(tmp_path) == ["data.txt", "link.txt"]
+    fresh = tmp_path / "new.txt"
+    with atomic.atomic_stream(fresh) as stream:
+        stream.write("x")
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o666 & ~atomic._umask()
+    with pytest.raises(OSError) as caught, atomic.atomic_stream(tmp_path / "missing" / "x.txt") as stream:
+        stream.write("never")
+    assert caught.value.filename == str(tmp_path / "missing" / "x.txt")

@@ -20,8 +20,9 @@ from tests.cli_helpers import finish, on_a_terminal, read_until, wait_for_cpu_se
 from tests.schema_check import check
 
 
-def run(argv: list[str], interactive: bool = False) -> tuple[int, str, str]:
-    streams = Streams(stdin=io.StringIO(), stdout=io.StringIO(), stderr=io.StringIO(), interactive=interactive)
+def run(argv: list[str], terminal: bool = False) -> tuple[int, str, str]:
+    """``collisionlab gas argv``; ``terminal``: as if stdin and stderr were a terminal."""
+    streams = Streams(io.StringIO(), io.StringIO(), io.StringIO(), interactive=terminal, err_terminal=terminal)
     status = main(["gas", *argv], streams)
     if status == 0 and "--format" in argv and argv[argv.index("--format") + 1] == "json":
         check("gas", json.loads(streams.stdout.getvalue()))  # type: ignore[attr-defined]
@@ -87,13 +88,13 @@ def test_plot_is_written_whole(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize(
-    ("interactive", "quiet", "drawn"), [(True, False, True), (True, True, False), (False, False, False)]
+    ("terminal", "quiet", "drawn"), [(True, False, True), (True, True, False), (False, False, False)]
 )
 def test_progress_bar_only_on_a_terminal(
-    monkeypatch: pytest.MonkeyPatch, interactive: bool, quiet: bool, drawn: bool
+    monkeypatch: pytest.MonkeyPatch, terminal: bool, quiet: bool, drawn: bool
 ) -> None:
     monkeypatch.setattr(progress_module, "SHOW_AFTER", 0.0)  # as if the run were long
-    status, _, err = run(["--n", "200", "--steps", "200", *(["--quiet"] if quiet else [])], interactive)
+    status, _, err = run(["--n", "200", "--steps", "200", *(["--quiet"] if quiet else [])], terminal)
     assert status == 0
     assert ("200/200" in err) is drawn
 
@@ -179,15 +180,15 @@ def test_an_interrupt_noted_during_a_chunk_stops_after_it() -> None:
 def test_ctrl_c_during_gas_exits_130_in_every_mode(tmp_path: Path, backend: str, quiet: bool) -> None:
     # A run of ~2e10 body-steps (hours). Ctrl-C used to end in "SystemError: CPUDispatcher(...)
     # returned a result with an exception set" 14 s later, or be ignored to the end with --quiet.
-    # The progress line (stdin a terminal, not --quiet) or, with --quiet, the process's CPU time
-    # shows the stepping under way; the helpers bound every wait so a hang fails, not blocks.
+    # The Python form's notice (not --quiet) or, with --quiet, the process's CPU time shows the
+    # stepping under way; the helpers bound every wait so a hang fails, not blocks.
     argv = ["gas", "--n", "20000", "--steps", "1000000", "--backend", backend, *(["--quiet"] if quiet else [])]
     with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
         assert process.stderr is not None
         if quiet:
             wait_for_cpu_seconds(process.pid, 4.0)
         else:
-            read_until(process.stderr.fileno(), b"gas steps [", timeout=60)
+            read_until(process.stderr.fileno(), b"Python form", timeout=60)
         process.send_signal(signal.SIGINT)
         status, err = finish(process, timeout=20)
     assert status == 130, err

@@ -632,14 +632,30 @@ def test_the_console_script_reports_bad_data_with_65_and_no_traceback(tmp_path: 
     assert "body[0].position" in process.stderr and "Traceback" not in process.stderr
 
 
+#: Seconds to wait for a progress line (LOG_EVERY apart), on a loaded machine.
+_FIRST_LINE = 60.0
+
+
+def _long_run(folder: Path, target: Path) -> list[str]:
+    """A run of hours that writes little: 2,000 circles for 1,000,000 steps, a frame only at
+    the start and end (no --quiet: it would silence the progress line the tests wait for). The
+    scenario file goes beside ``folder``, which then holds only what the run leaves."""
+    scenario = folder.parent / f"{folder.name}-long.toml"
+    scenario.write_text(
+        '[simulation]\nsteps = 1000000\ndt = 0.001\n[[gas]]\nname = "b"\nshape = "circle"\nradius = 0.05\n'
+        "region = [[0, 0], [10, 10]]\ncount = 2000\n"
+    )
+    return ["run", str(scenario), "--every", "1000000", "--output", str(target)]
+
+
 def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: Path) -> None:
-    # A terminal on stdin makes the run draw its progress bar (after a second): once it shows, the
-    # run is under way; Ctrl-C then must leave neither the output file nor a temporary one.
+    # stderr a pipe (a log) gets a progress line after LOG_EVERY s: once it shows, the run is
+    # under way; Ctrl-C then must leave neither the output file nor a temporary one.
     target = tmp_path / "out.txt"
-    argv = ["demo", "spheres", "--steps", "1000000", "--quiet", "--output", str(target)]
+    argv = _long_run(tmp_path, target)
     with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
         assert process.stderr is not None
-        read_until(process.stderr.fileno(), b"/1000000")
+        read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)
         process.send_signal(signal.SIGINT)
         status, err = finish(process)
     assert status == 130
@@ -651,10 +667,10 @@ def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: 
 def test_sigterm_and_sighup_during_a_run_are_handled_as_ctrl_c(tmp_path: Path, name: str, status: int) -> None:
     # Each used to kill the process outright and leave the hidden temporary file of --output.
     target = tmp_path / "out.txt"
-    argv = ["demo", "spheres", "--steps", "1000000", "--quiet", "--output", str(target)]
+    argv = _long_run(tmp_path, target)
     with on_a_terminal(argv, tmp_path, stdout_too=False) as (process, _):
         assert process.stderr is not None
-        read_until(process.stderr.fileno(), b"/1000000")
+        read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)
         process.send_signal(getattr(signal, name))
         code, err = finish(process)
     assert code == status
@@ -667,12 +683,12 @@ def test_a_run_started_ignoring_sighup_runs_on_through_it(tmp_path: Path) -> Non
     # As under nohup: the terminal may close (SIGHUP) and the run goes on; it used to stop with
     # "stopped by SIGHUP" (the handler replaced the ignore). SIGTERM still stops it cleanly.
     target = tmp_path / "out.txt"
-    argv = ["demo", "spheres", "--steps", "1000000", "--quiet", "--output", str(target)]
+    argv = _long_run(tmp_path, target)
     with on_a_terminal(argv, tmp_path, stdout_too=False, ignored=(signal.SIGHUP,)) as (process, _):
         assert process.stderr is not None
-        read_until(process.stderr.fileno(), b"/1000000")
+        read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)
         process.send_signal(signal.SIGHUP)
-        read_until(process.stderr.fileno(), b"/1000000")  # the progress bar moves on
+        read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)  # the next progress line
         assert process.poll() is None
         process.send_signal(signal.SIGTERM)
         code, err = finish(process)

@@ -178,3 +178,48 @@ def test_every_kernel_is_compiled_for_one_set_of_argument_types() -> None:
         assert entry in names  # read, not skipped
     twice = {name: [str(s) for s in signatures] for (name, _), signatures in types_of.items() if len(signatures) > 1}
     assert not twice
+
+
+def _no_cache_folder_env(tmp_path: Path) -> dict[str, str]:
+    """An environment with no writable cache folder: HOME and XDG_CACHE_HOME under a plain file
+    (nobody, root included, can make a folder there), NUMBA_CACHE_DIR unset, and numba kept from
+    writing beside the sources (as for a package installed in a read-only folder)."""
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    (tmp_path / "tmp").mkdir()
+    env = {key: value for key, value in os.environ.items() if key != "NUMBA_CACHE_DIR"}
+    env.update(
+        HOME=str(blocker / "home"),
+        XDG_CACHE_HOME=str(blocker / "cache"),
+        TMPDIR=str(tmp_path / "tmp"),
+        NUMBA_CACHE_LOCATOR_CLASSES="UserProvidedCacheLocator,UserWideCacheLocator",
+    )
+    return env
+
+
+def test_a_run_with_no_writable_cache_folder_caches_in_a_private_temporary_one(tmp_path: Path) -> None:
+    # Before: "unexpected error: RuntimeError: cannot cache function 'lay_out': no locator
+    # available", exit 1. The JSON writer's kernel is compiled by numba even for a tiny run.
+    scenario = Path(__file__).resolve().parents[1] / "examples" / "head-on.toml"
+    command = [sys.executable, "-m", "collisionlab", "run", str(scenario), "--format", "json"]
+    result = subprocess.run(command, env=_no_cache_folder_env(tmp_path), capture_output=True, text=True, check=False)
+    assert result.returncode == 0, result.stderr
+    assert '"collisions": 1' in result.stdout
+    said = [line for line in result.stderr.splitlines() if "cannot write the compile cache" in line]
+    assert len(said) == 1 and "Traceback" not in result.stderr
+    folder = tmp_path / "tmp" / f"collisionlab-numba-{os.getuid()}"
+    assert str(folder) in said[0]
+    assert list(folder.rglob("text_kernels.lay_out-*.nbi"))  # cached there: the next run loads it
+    assert folder.stat().st_mode & 0o077 == 0
+
+
+def test_a_temporary_cache_folder_open_to_others_is_not_used(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # Another user could have planted compiled code (pickles) in a folder they can write.
+    monkeypatch.setattr(numba_cache.tempfile, "tempdir", str(tmp_path))
+    shared = tmp_path / f"collisionlab-numba-{os.getuid()}"
+    shared.mkdir()
+    shared.chmod(0o777)
+    chosen = numba_cache._temporary_cache()
+    assert chosen != shared and chosen.parent == tmp_path and chosen.stat().st_mode & 0o077 == 0
+    shared.chmod(0o700)
+    assert numba_cache._temporary_cache() == shared

@@ -1,6 +1,12 @@
 """Write a file atomically: a temporary file in the same folder, renamed over the target only
 when complete, so a failed or interrupted run never leaves a half-written file.
 
+A text stream (:func:`atomic_stream`: ``--output``, ``--events``, the menu's file) is, where the
+system has ``O_TMPFILE`` (Linux, on most local file systems), a file with no name until it is
+complete: even a SIGKILL or a crash leaves nothing beside the target. A path handed to another
+writer (:func:`atomic_path`: pictures, sweep tables) has a name, hidden (``.NAME.XXXXXXXX.tmp.EXT``)
+and removed on any error or handled signal; only a SIGKILL or a crash mid-write leaves it behind.
+
 What is replaced is always a regular file, keeping its mode. A symlink is followed (its target
 is replaced, the link stays); a special file (a FIFO, a device such as ``/dev/null``) cannot be
 replaced and is written through instead, once the whole output is known (by every writer here:
@@ -12,19 +18,22 @@ from __future__ import annotations
 
 import codecs
 import contextlib
+import errno
 import os
+import secrets
 import shutil
 import stat
 import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import IO
+from typing import IO, TextIO
 
 from .errors import InvalidInputError, escape_controls
 
 __all__ = [
     "atomic_path",
+    "atomic_stream",
     "check_target",
     "copy_file",
     "write_atomically",
@@ -126,6 +135,72 @@ def atomic_path(target: str | Path) -> Iterator[Path]:
         raise
 
 
+#: Linux's flag for a file with no name until it is linked in (0: the system has none).
+_O_TMPFILE: int = getattr(os, "O_TMPFILE", 0)
+#: Where a descriptor can be named to link its file in (``linkat`` following ``/proc``'s link).
+_FD_LINKS = "/proc/self/fd"
+
+
+@contextlib.contextmanager
+def atomic_stream(target: str | Path, newline: str | None = None) -> Iterator[TextIO]:
+    """A UTF-8 text stream whose content replaces ``target`` when the block ends without error,
+    as :func:`atomic_path` (a symlink followed, the mode kept, a FIFO or device written through,
+    an :class:`OSError` naming ``target``). With ``O_TMPFILE`` the file has no name until it is
+    complete, then is linked in under a hidden name and renamed over ``target`` at once: a
+    process killed mid-write (SIGKILL) leaves nothing behind. Elsewhere, :func:`atomic_path`."""
+    given = str(target)
+    descriptor = None
+    if _O_TMPFILE and os.path.isdir(_FD_LINKS) and not _special(given):
+        real = Path(os.path.realpath(given))
+        try:
+            mode = stat.S_IMODE(real.stat().st_mode)
+        except OSError:  # a new file: what open() would give it
+            mode = 0o666 & ~_umask()
+        try:
+            descriptor = os.open(real.parent, _O_TMPFILE | os.O_WRONLY, 0o600)
+        except OSError as error:
+            # A file system without O_TMPFILE (EOPNOTSUPP; old kernels EISDIR): a named file.
+            if error.errno not in (errno.EOPNOTSUPP, errno.EISDIR, errno.EINVAL):
+                raise OSError(error.errno, error.strerror or str(error), given) from None
+    if descriptor is None:
+        with atomic_path(given) as temporary, open(temporary, "w", encoding="utf-8", newline=newline) as stream:
+            yield stream
+        return
+    try:
+        with os.fdopen(descriptor, "w", encoding="utf-8", newline=newline) as stream:
+            yield stream
+            stream.flush()
+            os.fchmod(descriptor, mode)
+            _link_in(descriptor, real)
+    except OSError as error:
+        # The target's folder, a write (a full disk, a file-size limit) or the rename: the user's path.
+        raise OSError(error.errno, error.strerror or str(error), given) from None
+
+
+def _link_in(descriptor: int, target: Path) -> None:
+    """Give the unnamed file ``descriptor`` a hidden name beside ``target``, then rename it over
+    ``target`` (a rename is atomic; a link cannot replace a file)."""
+    folder = os.open(target.parent, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        while True:
+            name = f".{target.stem}.{secrets.token_hex(4)}.tmp{target.suffix}"
+            try:
+                # With a folder's descriptor os.link calls linkat, which follows /proc's link to
+                # the file (link(2), which it calls otherwise, would link the link: EXDEV).
+                os.link(f"{_FD_LINKS}/{descriptor}", name, dst_dir_fd=folder, follow_symlinks=True)
+                break
+            except FileExistsError:
+                continue
+    finally:
+        os.close(folder)
+    named = target.parent / name
+    try:
+        os.replace(named, target)
+    except BaseException:
+        named.unlink(missing_ok=True)
+        raise
+
+
 def write_text_atomically(target: str | Path, produce: Callable[[], str]) -> None:
     """Write ``produce()`` to ``target`` atomically (``produce`` runs before anything is
     replaced); a FIFO or a device is written through. An :class:`OSError` names ``target``."""
@@ -183,7 +258,7 @@ def write_atomically(target: str | Path, write: Callable[[IO[str]], object]) -> 
             with open(real, "w", encoding="utf-8") as stream:
                 write(stream)
             return
-        with atomic_path(real) as temporary, open(temporary, "w", encoding="utf-8") as stream:
+        with atomic_stream(real) as stream:
             write(stream)
     except OSError as error:
         raise OSError(error.errno, error.strerror or str(error), str(target)) from None

@@ -11,7 +11,9 @@ import contextlib
 import gc
 import hashlib
 import os
+import stat
 import sys
+import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
 
@@ -32,8 +34,55 @@ def numba_cache_dir() -> Path:
 
 
 def use_user_cache() -> None:
-    """Point numba's cache at :func:`numba_cache_dir`, unless ``NUMBA_CACHE_DIR`` is already set."""
-    os.environ.setdefault("NUMBA_CACHE_DIR", str(numba_cache_dir()))
+    """Point numba's cache at :func:`numba_cache_dir`, unless ``NUMBA_CACHE_DIR`` is already set.
+    A folder that cannot be made or written (no home folder, a read-only one) is replaced by a
+    private folder in the temporary folder, and stderr says so once: numba would otherwise refuse
+    to compile a kernel asked to be cached when the package's own folder is read-only too."""
+    if "NUMBA_CACHE_DIR" in os.environ:
+        return
+    wanted = numba_cache_dir()
+    problem = _unwritable(wanted)
+    if problem is None:
+        os.environ["NUMBA_CACHE_DIR"] = str(wanted)
+        return
+    fallback = _temporary_cache()
+    os.environ["NUMBA_CACHE_DIR"] = str(fallback)  # also what later calls, and child processes, see
+    # Said here, not through a caller's stream: numba reads the folder when it is first imported,
+    # wherever that happens; the variable set above makes this the only time in the process.
+    print(
+        f"collisionlab: cannot write the compile cache {wanted} ({problem}); "
+        f"compiled kernels are cached in {fallback} instead",
+        file=sys.stderr,
+        flush=True,
+    )
+
+
+def _unwritable(folder: Path) -> str | None:
+    """Why ``folder`` cannot be made or written (as numba tries it), or None if it can."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        tempfile.TemporaryFile(dir=folder).close()
+    except OSError as error:
+        return error.strerror or str(error)
+    return None
+
+
+def _temporary_cache() -> Path:
+    """A cache folder in the temporary folder that only this user can write: the same one each
+    run (so the next run loads what this one compiled) if it is this user's and closed to others
+    (numba's cache holds pickles: code another user could plant would run), else a fresh one."""
+    if os.name == "posix":
+        uid = os.getuid()
+        folder = Path(tempfile.gettempdir()) / f"collisionlab-numba-{uid}"
+        try:
+            folder.mkdir(mode=0o700, exist_ok=True)
+            info = folder.lstat()
+            private = stat.S_ISDIR(info.st_mode) and info.st_uid == uid and not info.st_mode & 0o022
+            if private and _unwritable(folder) is None:
+                return folder
+        except OSError:
+            pass
+    return Path(tempfile.mkdtemp(prefix="collisionlab-numba-"))
 
 
 def cache_files(package: Path) -> list[Path]:

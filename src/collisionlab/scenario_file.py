@@ -15,6 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
+from .engine.overlap import refuse_overlaps
 from .errors import CollisionLabError, InvalidInputError, did_you_mean, escape_controls
 from .gas_table import GasSpec, gas_count, place_gas
 from .limits import MAX_SCENARIO_BYTES
@@ -305,12 +306,15 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
         names.update({body.name: f"gas[{index}].shape" for body in block[:2]})
     names.update({key: key for key in ("gravity", "body", "static", "simulation", "box", "gas")})
     names["gravity"] = "simulation.gravity"
-    return _check(
+    scenario = _check(
         source,
         lambda: Scenario(settings, (*bodies, *blocks), tuple(statics), name, allow_overlap, box),
         "scenario",
         names,
     )
+    # Here rather than in the world: before any kernel is compiled, and under the file's name.
+    _check(source, lambda: refuse_overlaps(scenario), "body")
+    return scenario
 
 
 def read_toml(path: str | Path, invalid: Callable[[str, str, str], InvalidInputError], kind: str) -> dict[str, Any]:

@@ -19,7 +19,7 @@ from ..engine.world import World
 from ..errors import InvalidInputError, OutOfRangeError
 from ..particles import BACKENDS, gas_scenario, pick_backend
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
-from .interrupts import between_chunks, deferred_interrupts
+from .interrupts import between_chunks, deferred_interrupts, interrupts_for
 from .progress import ProgressBar
 from .streams import Streams
 
@@ -177,10 +177,9 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     if gas.restitution > 1.0:
         streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
     bar = ProgressBar(streams, label="gas time")
-    interactive = bool(streams.interactive) and notes
     try:
         with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the loop
-            between = between_chunks(pending, bar if interactive else None)
+            between = between_chunks(pending, bar if notes else None)
             if args.events is not None:
                 with event_file(args.events) as sink:
                     world.listen(sink)
@@ -229,11 +228,13 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         return 1
     if restitution > 1.0:
         streams.err(f"warning: restitution {restitution:g} > 1: every collision adds kinetic energy")
+    if notes and not world.compiled:  # a first user may not know how much slower it is
+        streams.err(f"{_PROG}: stepping with the kernels' Python form: far slower than numba (Ctrl-C stops it)")
     energy_start = world.kinetic_energy()
     bar = ProgressBar(streams, label="gas steps")
     try:
-        with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the kernels
-            seconds = world.advance(steps, between_chunks(pending, bar if streams.interactive and notes else None))
+        with interrupts_for(world.compiled) as pending:  # compiled: looked for between chunks
+            seconds = world.advance(steps, between_chunks(pending, bar if notes else None))
     except OutOfRangeError as err:
         streams.err(f"{_PROG}: {err}")
         return 65

@@ -10,7 +10,15 @@ import signal
 from collections.abc import Callable, Iterator
 from types import FrameType
 
-__all__ = ["Pending", "Stopped", "between_chunks", "deferred_interrupts", "remembered_interrupts", "stop_on_signals"]
+__all__ = [
+    "Pending",
+    "Stopped",
+    "between_chunks",
+    "deferred_interrupts",
+    "interrupts_for",
+    "remembered_interrupts",
+    "stop_on_signals",
+]
 
 #: The signals handled as Ctrl-C, where the platform has them.
 _SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
@@ -102,6 +110,14 @@ def remembered_interrupts() -> Iterator[Pending]:
 
     with _handlers((signal.SIGINT, *_SIGNALS), note_and_raise):
         yield pending
+
+
+def interrupts_for(compiled: bool) -> contextlib.AbstractContextManager[Pending]:
+    """How a loop of steps hears Ctrl-C, SIGTERM and SIGHUP: a compiled kernel cannot be stopped
+    inside a call, so the signal waits for the end of its chunk (:func:`deferred_interrupts`); the
+    kernels' Python form can, and one of its steps may take seconds (200,000 balls: about 5 s),
+    so there the signal raises at once (:func:`remembered_interrupts`)."""
+    return deferred_interrupts() if compiled else remembered_interrupts()
 
 
 def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None = None) -> Callable[[int, int], None]:

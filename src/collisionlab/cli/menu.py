@@ -5,7 +5,6 @@ validation as a scenario file, so the menu holds no physics."""
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -307,6 +306,8 @@ def _scenario_data(case: Case, answers: Answers) -> dict[str, Any]:
         )
     simulation = {k: answers[k] for k in ("dt", "steps", "restitution", "mode")}
     simulation["title"] = f"Menu: {case.title}"
+    # Typed answers may place bodies overlapping: the run pushes them apart and its table says so.
+    simulation["allow_initial_overlap"] = True
     return {"simulation": simulation, "body": bodies, "static": statics}
 
 
@@ -390,8 +391,6 @@ def run_menu(streams: Streams) -> int:
             for q in case.questions:
                 if q.key in ("dt", "steps", "mode"):
                     answers[q.key] = dialogue.question(q, answers)
-    # Typed answers may place bodies overlapping: the run pushes them apart and its table says so.
-    scenario = dataclasses.replace(scenario, allow_initial_overlap=True)
     bar = ProgressBar(streams, scenario.title)
     try:
         record = World(scenario).run(progress=bar)

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any, TextIO, TypeVar
 
 from .. import limits
-from ..atomic import atomic_path, check_target
+from ..atomic import atomic_stream, check_target
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, did_you_mean, escape_controls, shorten
 from ..model import Scenario
@@ -78,7 +78,9 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--every", type=positive_int, default=1, metavar="K", help="print every K-th step")
     parser.add_argument("--format", choices=("table", "csv", "json"), default="table", help="output format")
     parser.add_argument("--output", metavar="FILE", help="write the output to FILE (atomically) instead of stdout")
-    parser.add_argument("--quiet", action="store_true", help="table: collisions and summary only, no positions")
+    parser.add_argument(
+        "--quiet", action="store_true", help="table: collisions and summary only, no positions; no progress on stderr"
+    )
     parser.add_argument("--explain", action="store_true", help="show the working of every collision")
     parser.add_argument("--plot", metavar="FILE.png", help="save trajectories and energy over time as a picture")
     parser.add_argument("--animate", metavar="FILE.gif", help="save an animation (.gif, or .mp4 with ffmpeg)")
@@ -199,7 +201,7 @@ def execute(
             if index:
                 spool.write(",\n" if args.format == "json" else "\n")
             writer = writer_for(args.format, spool, args.every, args.quiet, args.explain, streams.err)
-            bar = ProgressBar(streams, scenario.title)
+            bar = ProgressBar(streams, scenario.title, quiet=args.quiet)
             try:
                 # Only pictures need the whole record; the output is written as the run goes.
                 world = World(scenario, notify=streams.err)
@@ -233,7 +235,7 @@ def execute(
 @contextlib.contextmanager
 def _spool(output: str | None) -> Iterator[TextIO]:
     """The file the writers write to. With ``--output``: the temporary file beside it that
-    replaces it once every run has succeeded (:func:`~collisionlab.atomic.atomic_path`: on an
+    replaces it once every run has succeeded (:func:`~collisionlab.atomic.atomic_stream`: on an
     error or Ctrl-C it is removed and ``output`` is left as it was; a FIFO or a device is written
     through at the end), so the output is written to disk once. Else an unnamed temporary file,
     copied to stdout at the end by the caller."""
@@ -242,10 +244,10 @@ def _spool(output: str | None) -> Iterator[TextIO]:
             yield spool
         return
     try:
-        with atomic_path(output) as temporary, open(temporary, "w", encoding="utf-8") as spool:
+        with atomic_stream(output) as spool:
             yield spool
     except OSError as error:
-        if error.filename != output:  # not about the output (atomic_path names it so): as it is
+        if error.filename != output:  # not about the output (atomic_stream names it so): as it is
             raise
         raise CollisionLabError(
             f"--output: cannot write {escape_controls(output)}: {error.strerror or error}"

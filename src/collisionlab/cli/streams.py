@@ -21,20 +21,21 @@ class Streams:
     """Where the CLI reads answers and writes output and errors.
 
     ``interactive`` says whether stdin is a terminal a person types into (it decides whether a
-    bare ``collisionlab`` opens the menu and whether progress bars are drawn).
+    bare ``collisionlab`` opens the menu); ``err_terminal`` whether stderr is a terminal (a
+    progress bar is then redrawn in place; in a log, a line now and then).
     """
 
     stdin: TextIO = field(default_factory=lambda: sys.stdin)
     stdout: TextIO = field(default_factory=lambda: sys.stdout)
     stderr: TextIO = field(default_factory=lambda: sys.stderr)
     interactive: bool | None = None
+    err_terminal: bool | None = None
 
     def __post_init__(self) -> None:
         if self.interactive is None:
-            try:
-                self.interactive = self.stdin.isatty()
-            except (AttributeError, ValueError):
-                self.interactive = False
+            self.interactive = _is_terminal(self.stdin)
+        if self.err_terminal is None:
+            self.err_terminal = _is_terminal(self.stderr)
 
     def out(self, text: str = "") -> None:
         self.stdout.write(text + "\n")
@@ -45,3 +46,10 @@ class Streams:
         line is at most about ``ERROR_LINE_CHARS`` long."""
         lines = escape_controls(text, keep="\n").split("\n")
         self.stderr.write("\n".join(shorten(line, ERROR_LINE_CHARS) for line in lines) + "\n")
+
+
+def _is_terminal(stream: TextIO) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError):  # not a file, or a closed one
+        return False

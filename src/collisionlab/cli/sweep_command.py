@@ -16,15 +16,13 @@ from ..atomic import check_target
 from ..demos import builtin_sweep_path
 from ..errors import InvalidInputError
 from .interrupts import Stopped, remembered_interrupts
-from .progress import SHOW_AFTER
+from .progress import LOG_EVERY, REDRAW_EVERY, SHOW_AFTER
 from .run_command import positive_int
 from .streams import Streams
 
 __all__ = ["add_parser", "run"]
 
 _PROG = "collisionlab sweep"
-#: Seconds between two progress lines when standard error is not a terminal (a log).
-_LOG_EVERY = 5.0
 #: Rows of the table printed at most (the files hold them all).
 _PRINT_ROWS = 60
 EXIT_DATA = 65
@@ -65,13 +63,13 @@ class _Progress:
 
     def __call__(self, done: int, total: int, elapsed: float, done_now: int) -> None:
         now = time.monotonic()
-        interval = 0.2 if self.streams.interactive else _LOG_EVERY
+        interval = REDRAW_EVERY if self.streams.err_terminal else LOG_EVERY
         if self.quiet or (now - self.last < interval and done < total) or elapsed < SHOW_AFTER:
             return
         self.last = now
         left = (total - done) * elapsed / done_now if done_now else math.nan
         text = f"{_PROG}: {done}/{total} rows, {elapsed:.0f} s, about {left:.0f} s left"
-        if self.streams.interactive:
+        if self.streams.err_terminal:
             self.streams.stderr.write(f"\r{text}   ")
             self.streams.stderr.flush()
             self.drawn = True

@@ -21,7 +21,7 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import TextIO
 
-from ..atomic import atomic_path
+from ..atomic import atomic_stream
 from ..errors import InvalidInputError
 from ..record import CollisionEvent, EventBlock, Frame, RunRecord, SkippedContact
 
@@ -90,7 +90,7 @@ def event_file(path: str | Path) -> Iterator[EventsFile]:
     """An :class:`EventsFile` writing to ``path`` (format from its extension), written whole or
     not at all."""
     kind = event_format(path)
-    with atomic_path(path) as temporary, open(temporary, "w", encoding="utf-8", newline="") as out:
+    with atomic_stream(path, newline="") as out:
         if kind == "csv":
             out.write("time,a,b,impulse\n")
         yield EventsFile(out, kind)

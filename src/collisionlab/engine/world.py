@@ -39,6 +39,7 @@ from . import contact_kernels, exact_kernels, step_kernels
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_stepper import ExactStepper
+from .overlap import InitialOverlapError, find_overlaps, overlap_message
 from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
@@ -48,10 +49,6 @@ __all__ = ["CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
 #: is looked at between calls: it stops a run within a second).
 CHUNK_SECONDS = 0.25
-
-
-class InitialOverlapError(InvalidInputError):
-    """Two bodies (or a body and an obstacle) overlap at the start."""
 
 
 def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
@@ -265,24 +262,19 @@ class World:
         return (self._static_names[-1 - a] if a < 0 else self._names[a], self._names[b])
 
     def _check_initial_overlap(self) -> None:
-        pairs, depths = self._near(0.0)
+        # NumPy, before any kernel is compiled: a refusal stops at the first overlap it finds.
         # Deeper than the slop: a ball placed "on" a tilted plane overlaps it by rounding (1e-17).
-        overlapping = depths > self.params.slop
-        if not np.any(overlapping):
+        allowed = self.scenario.allow_initial_overlap
+        found = find_overlaps(self._bodies, self._statics, self.dims, self.params.slop, every=allowed)
+        if not found.count:
             return
-        worst = int(np.argmax(depths))
-        name_a, name_b = self._pair_names(int(pairs[worst, 0]), int(pairs[worst, 1]))
-        count = int(np.count_nonzero(overlapping))
-        if not self.scenario.allow_initial_overlap:
-            more = f" (and {count - 1} more pair{'s' if count > 2 else ''})" if count > 1 else ""
-            raise InitialOverlapError(
-                "body",
-                f"'{name_a}' and '{name_b}' overlap by {depths[worst]:.6g} m at the start{more}; move them apart, "
-                "or set allow_initial_overlap = true to have the first step push them apart",
-            )
+        name_a, name_b = self._pair_names(*found.pair)
+        if not allowed:
+            raise InitialOverlapError("body", overlap_message(found, name_a, name_b))
+        count = found.count
         self.record.warnings.append(
             f"{count} pair{'s' if count > 1 else ''} overlapped at the start (deepest: '{name_a}' and '{name_b}' by "
-            f"{depths[worst]:.6g} m); the first step pushes them apart (allow_initial_overlap)"
+            f"{found.depth:.6g} m); the first step pushes them apart (allow_initial_overlap)"
         )
 
     def _check_tunnelling(self) -> None:
@@ -359,8 +351,8 @@ class World:
             return gc_paused()
         if self._notify is not None and not self._said_compiling:
             self._said_compiling = True
-            # The exact stepper's kernel compiles after the step kernels the check of overlaps
-            # calls: the notice says what the whole run will wait (on 2 cores, bench/README.md).
+            # The exact stepper's kernel takes longest to compile: the notice says what the run
+            # will wait (on 2 cores, bench/README.md).
             exact = self._exact and not self.scenario.event_driven and not self._solving
             exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
             took = "about three minutes" if exact else "about a minute"
