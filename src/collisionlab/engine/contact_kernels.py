@@ -36,7 +36,7 @@ One step of ``dt`` (``h = dt / 2``), in this fixed order:
    rest.
 4. **Flight to the step's end**, with impacts as in 2.
 5. **End of the step**: overlaps deeper than ``slop`` left (the solve's residual) are pushed
-   apart, ``PUSH_SWEEPS`` sweeps, without touching velocities (the energy in the ledger's
+   apart, all at once, without touching velocities (the energy in the ledger's
    push-apart column); then **sleep**: bodies joined by contacts form islands (union-find). An island that
    touches a static, holds no kinematic body, and whose bodies all stayed slower than
    ``SLEEP_SPEED`` for ``SLEEP_TIME`` falls asleep: it no longer flies, is solved or listed
@@ -88,8 +88,10 @@ MAX_SOLVER_SWEEPS = 500
 #: The most iterations of a solve most of whose touching contacts are new (nothing to start from: a
 #: stack's first step, where a column of k balls needs of the order of k^2 sweeps).
 COLD_SOLVER_SWEEPS = 2000
-#: Push-apart sweeps at the end of a step.
-PUSH_SWEEPS = 4
+#: The most rounds of push-apart at the end of a step, and the most iterations of each (a
+#: solve of its own, from the gaps anew).
+PUSH_ROUNDS = 2
+PUSH_ITERATIONS = 100
 #: Columns of a pair's float row in the solve: height (times ``|g|``), normal (3), gap at
 #: mid-step, impulse, target normal velocity, inverse mass sum, what the relative acceleration
 #: adds to the normal velocity by the step's end.
@@ -770,50 +772,53 @@ def _push_apart(
     kind: Any, pos: Any, ext: Any, ima: Any, asleep: Any, s_kind: Any, s_a: Any, s_b: Any,
     pairs: Any, count: int, gravity: Any, slop: float, ledger: Any,
 ) -> None:  # fmt: skip
-    """Pairs overlapping by more than ``slop`` are moved apart until they touch, shared in
-    inverse proportion to mass (a sleeping body does not move); velocities are not touched. The
-    energy this changes (``-m g.dx``) goes to ``ledger[2]``, the deepest overlap to ``ledger[4]``.
-    The first sweep looks at every pair; the later ones only at the pairs closer than the
-    deepest overlap (no other can be pushed into one)."""
-    deepest = 0.0
+    """Pairs overlapping by more than ``slop`` are moved apart until they touch, velocities
+    untouched (a sleeping body does not move). All at once: the displacements ``d = M^-1 J^T P``
+    with ``P >= 0`` and every listed pair's gap ``+ J d >= 0``, the smallest in the mass norm,
+    are the same quadratic program as the velocity solve's (:func:`_mprgp`, with gaps for
+    velocities; the split impulse of Catto's and Bullet's solvers), so an overlap wedged in a
+    pile is undone by moving the pile around it, not traded for a new one each step. Up to
+    ``PUSH_ROUNDS`` rounds, each from the gaps anew (a circle moved sideways along a neighbour
+    ends a little into it). The energy this changes (``-m g.dx``) goes to ``ledger[2]``, the
+    deepest overlap to ``ledger[4]``."""
+    n = pos.shape[0]
     gaps = np.empty(count)
-    for p in range(count):
-        gaps[p] = _sep_now(kind, pos, ext, s_kind, s_a, s_b, pairs[p, 0], pairs[p, 1])[0]
-        deepest = max(deepest, -gaps[p])
-    if deepest <= slop:
-        return
-    ledger[4] = max(ledger[4], deepest)
-    near = np.empty(count, np.int64)
-    m = sk._int(0)
-    for p in range(count):
-        if gaps[p] < deepest:
-            near[m] = p
-            m += 1
-    for _ in range(PUSH_SWEEPS):
-        moved = False
-        for q in range(m):
-            p = near[q]
+    for _ in range(PUSH_ROUNDS):
+        deepest = 0.0
+        for p in range(count):
+            gaps[p] = _sep_now(kind, pos, ext, s_kind, s_a, s_b, pairs[p, 0], pairs[p, 1])[0]
+            deepest = max(deepest, -gaps[p])
+        if deepest <= slop:
+            return
+        ledger[4] = max(ledger[4], deepest)
+        weight = np.zeros(n)
+        for i in range(n):
+            if asleep[i] == 0:
+                weight[i] = ima[i]
+        ca = np.empty(count, np.int64)
+        cb = np.empty(count, np.int64)
+        cf = np.zeros((count, 7))
+        c = sk._int(0)
+        for p in range(count):
             a = pairs[p, 0]
             b = pairs[p, 1]
+            if gaps[p] >= deepest or weight[b] + (weight[a] if a >= 0 else 0.0) == 0.0:
+                continue  # (a pair farther apart than the deepest overlap cannot be pushed into one)
             sep = _sep_now(kind, pos, ext, s_kind, s_a, s_b, a, b)
-            if sep[0] >= -slop:
-                continue
-            wa = ima[a] if a >= 0 and asleep[a] == 0 else 0.0
-            wb = ima[b] if asleep[b] == 0 else 0.0
-            if wa + wb == 0.0:
-                continue
-            moved = True
-            for end in range(2):
-                i = b if end == 0 else a
-                w = wb if end == 0 else wa
-                if w == 0.0:
-                    continue
-                share = -sep[0] * w / (wa + wb) * (1.0 if end == 0 else -1.0)
+            ca[c] = a
+            cb[c] = b
+            for k in range(3):
+                cf[c, k] = sep[1 + k]
+            cf[c, 5] = gaps[p]
+            c += 1
+        shift = np.zeros((n, 3))
+        scratch = np.zeros(STATUS_SIZE, np.int64)
+        _mprgp(ca, cb, cf, c, shift, weight, n, PUSH_ITERATIONS, scratch)
+        for i in range(n):
+            if weight[i] > 0.0:
                 for k in range(3):
-                    pos[i, k] += share * sep[1 + k]
-                    ledger[2] -= gravity[k] * share * sep[1 + k] / ima[i]
-        if not moved:
-            return
+                    pos[i, k] += shift[i, k]
+                    ledger[2] -= gravity[k] * shift[i, k] / weight[i]
 
 
 def _sleep(
