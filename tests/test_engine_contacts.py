@@ -187,6 +187,39 @@ def test_a_deep_pour_settles_and_sleeps_within_ten_seconds() -> None:
     assert total == pytest.approx(momentum - 400 * np.array(DOWN) * 10.0, abs=1e-6 * 400 * G * 10.0)
 
 
+def test_spheres_poured_into_a_box_of_walls_settle_and_sleep() -> None:
+    # 200 spheres (r 0.5 m, 1 kg) on a lattice 1.2 diameters apart, poured into a 5 m square box
+    # of four static AABB walls on a floor plane: at rest and asleep by 12 s, every centre inside,
+    # no overlap left, and the statics' impulses balance momentum.
+    n, half = 200, 2.5
+    k = np.arange(n)
+    x = -half + 1.1 + 1.2 * (k % 3) + 0.05 * np.sin(1.7 * k)
+    z = -half + 1.1 + 1.2 * ((k // 3) % 3) + 0.05 * np.cos(1.3 * k)
+    y = 2.0 + 1.2 * (k // 9)
+    block = BodyBlock("ball", "sphere", (0.5, 0.5, 0.5), np.c_[x, y, z], np.zeros((n, 3)))
+    t, top = 1.0, 40.0
+    walls = (
+        floor_3d(),
+        Obstacle("west", AABB((-half - t, 0, -half - t), (-half, top, half + t))),
+        Obstacle("east", AABB((half, 0, -half - t), (half + t, top, half + t))),
+        Obstacle("south", AABB((-half, 0, -half - t), (half, top, -half))),
+        Obstacle("north", AABB((-half, 0, half), (half, top, half + t))),
+    )
+    world = World(Scenario(settings(1200), (block,), walls), WorldParams(compiled=True))
+    world.step(1200)
+    stepper = world.stepper
+    assert isinstance(stepper, ContactStepper)
+    assert stepper.asleep == n
+    assert world.kinetic_energy() == 0.0
+    p = world.position_array
+    assert np.all(p[:, 1] >= 0.5 - 1e-6)
+    assert np.all(np.abs(p[:, [0, 2]]) <= half - 0.5 + 1e-6)
+    assert world.deepest_overlap() <= 1e-6 * 0.5
+    total = np.sum(list(world.record.static_impulses.values()), axis=0)  # type: ignore[union-attr]
+    momentum = np.array(world.momentum().as_tuple())
+    assert total == pytest.approx(momentum - n * np.array(DOWN) * 12.0, abs=1e-6 * n * G * 12.0)
+
+
 def test_a_sleeping_pile_wakes_when_a_ball_lands_on_it() -> None:
     bodies = column(3)
     dropped = Body("dropped", Sphere((0, 9.0, 0), 0.5), velocity=(0, 0, 0))
