@@ -601,20 +601,16 @@ def _gradient(ca: Any, cb: Any, cf: Any, c: int, vel: Any, g: Any) -> None:
         g[q] = vn
 
 
-def _product(ca: Any, cb: Any, cf: Any, c: int, ima: Any, d: Any, u: Any, ad: Any) -> float:
-    """``ad = A d`` with ``A = J M^-1 J^T`` (the Delassus operator): ``u`` gets each body's
-    velocity change from the impulses ``d`` (``u = M^-1 J^T d``), ``ad`` each contact's normal
-    part of it (``J u``). Returns ``d.A d``."""
-    for q in range(c):
-        a = ca[q]
-        b = cb[q]
-        for k in range(3):
-            u[b, k] = 0.0
-            if a >= 0:
-                u[a, k] = 0.0
+def _product(ca: Any, cb: Any, cf: Any, c: int, ima: Any, d: Any, u: Any, ad: Any, g: Any) -> Any:
+    """``ad = A d`` with ``A = J M^-1 J^T`` (the Delassus operator): ``u`` (all 0 on entry) gets
+    each body's velocity change from the impulses ``d`` (``u = M^-1 J^T d``), ``ad`` each
+    contact's normal part of it (``J u``). Returns ``(d.A d, g.d, the longest step -t d keeps
+    every impulse >= 0)``, summed in the same pass."""
     for q in range(c):
         _kick(u, ima, ca[q], cb[q], cf, q, d[q])
     dad = 0.0
+    gd = 0.0
+    feasible = math.inf
     for q in range(c):
         a = ca[q]
         b = cb[q]
@@ -623,15 +619,21 @@ def _product(ca: Any, cb: Any, cf: Any, c: int, ima: Any, d: Any, u: Any, ad: An
             s += (u[b, k] - (u[a, k] if a >= 0 else 0.0)) * cf[q, k]
         ad[q] = s
         dad += d[q] * s
-    return dad
+        gd += g[q] * d[q]
+        if d[q] > 0.0:
+            feasible = min(feasible, cf[q, 6] / d[q])
+    return dad, gd, feasible
 
 
-def _move(ca: Any, cb: Any, cf: Any, c: int, vel: Any, u: Any, g: Any, ad: Any, d: Any, step: float) -> None:
-    """Impulses ``-= step d``, and with them the velocities and the gradient."""
+def _move(ca: Any, cb: Any, cf: Any, c: int, vel: Any, u: Any, g: Any, ad: Any, d: Any, step: float) -> float:
+    """Impulses ``-= step d``, and with them the velocities and the gradient; ``u`` is left all
+    0. Returns the new free gradient's product with ``ad`` (the conjugate step's ``phi.A p``)."""
+    fad = 0.0
     for q in range(c):
         cf[q, 6] = max(cf[q, 6] - step * d[q], 0.0)
         g[q] -= step * ad[q]
-    for q in range(c):
+        if cf[q, 6] > 0.0:
+            fad += g[q] * ad[q]
         a = ca[q]
         b = cb[q]
         for k in range(3):
@@ -640,6 +642,7 @@ def _move(ca: Any, cb: Any, cf: Any, c: int, vel: Any, u: Any, g: Any, ad: Any, 
             if a >= 0:
                 vel[a, k] -= step * u[a, k]
                 u[a, k] = 0.0
+    return fad
 
 
 def _mprgp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterations: int, status: Any) -> bool:
@@ -690,25 +693,15 @@ def _mprgp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterat
         if worst <= SOLVER_TOLERANCE:
             return True
         if chopped <= reduced:  # proportional: a conjugate gradient step on the free set
-            pap = _product(ca, cb, cf, c, ima, p, u, ap)
+            pap, gp, feasible = _product(ca, cb, cf, c, ima, p, u, ap, g)
             if pap <= 0.0:
+                _move(ca, cb, cf, c, vel, u, g, ap, p, 0.0)  # (clears u)
                 for q in range(c):
                     p[q] = g[q] if cf[q, 6] > 0.0 else 0.0
                 continue
-            gp = 0.0
-            feasible = math.inf
-            for q in range(c):
-                gp += g[q] * p[q]
-                if p[q] > 0.0:
-                    feasible = min(feasible, cf[q, 6] / p[q])
             step = gp / pap
             if step <= feasible:
-                _move(ca, cb, cf, c, vel, u, g, ap, p, step)
-                fap = 0.0
-                for q in range(c):
-                    if cf[q, 6] > 0.0:
-                        fap += g[q] * ap[q]
-                gamma = fap / pap
+                gamma = _move(ca, cb, cf, c, vel, u, g, ap, p, step) / pap
                 for q in range(c):
                     p[q] = (g[q] if cf[q, 6] > 0.0 else 0.0) - gamma * p[q]
                 continue
@@ -718,16 +711,13 @@ def _mprgp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterat
         else:  # proportioning: release the contacts the gradient pulls in
             for q in range(c):
                 d[q] = min(g[q], 0.0) if cf[q, 6] <= 0.0 else 0.0
-            dad = _product(ca, cb, cf, c, ima, d, u, ap)
-            gd = 0.0
-            for q in range(c):
-                gd += g[q] * d[q]
+            dad, gd, _ = _product(ca, cb, cf, c, ima, d, u, ap, g)
             _move(ca, cb, cf, c, vel, u, g, ap, d, gd / dad if dad > 0.0 else 0.0)
             _gradient(ca, cb, cf, c, vel, g)
             for q in range(c):
                 p[q] = g[q] if cf[q, 6] > 0.0 else 0.0
             continue
-        _product(ca, cb, cf, c, ima, d, u, ap)
+        _product(ca, cb, cf, c, ima, d, u, ap, g)
         _move(ca, cb, cf, c, vel, u, g, ap, d, 1.0)
         _gradient(ca, cb, cf, c, vel, g)  # afresh: rounding does not pile up
         for q in range(c):
