@@ -178,6 +178,13 @@ def test_a_deep_pour_settles_and_sleeps_within_ten_seconds() -> None:
     world = World(pour(400, 20.0, 1000), WorldParams(compiled=True))
     world.step(1000)
     assert_asleep_in_box(world, 400, 10.0, 10.0, overlap=1e-3 * 0.5)  # what the landing left (the issue asks 1e-6 r)
+    # Frictionless supports push only along their normals, asleep or awake: the walls never
+    # up, the floor never sideways (the floor carries the weight, 400 m g T = 39,240 N s).
+    impulses = world.record.static_impulses
+    assert impulses is not None
+    weight = 400 * G * 10.0
+    assert abs(impulses["left"][1]) <= 1e-9 * weight and abs(impulses["right"][1]) <= 1e-9 * weight
+    assert abs(impulses["floor"][0]) <= 1e-9 * weight
 
 
 def test_spheres_poured_into_a_box_of_walls_settle_and_sleep() -> None:

@@ -92,6 +92,10 @@ COLD_SOLVER_SWEEPS = 2000
 #: solve of its own, from the gaps anew).
 PUSH_ROUNDS = 2
 PUSH_ITERATIONS = 100
+#: An axis counts as spanned by a sleeping island's support normals when its diagonal entry of
+#: ``sum P_w n_w n_w^T`` is more than this fraction of the trace (dimensionless): a 2D world's
+#: z axis (exactly 0) never is, and a share along an axis no support pushes on is not booked.
+SPAN_FRACTION = 1e-12
 #: Columns of a pair's float row in the solve: height (times ``|g|``), normal (3), gap at
 #: mid-step, impulse, target normal velocity, inverse mass sum, what the relative acceleration
 #: adds to the normal velocity by the step's end.
@@ -811,6 +815,86 @@ def _push_apart(
                     ledger[2] -= gravity[k] * shift[i, k] / weight[i]
 
 
+def _along_normals(rows_f: Any, first: int, last: int, total: float, target: Any) -> Any:
+    """Share the impulse ``target`` among the support rows ``first:last`` (each an impulse
+    ``P_w n_w`` on one body, ``total`` the sum of the ``P_w``), each share along the row's own
+    normal, so that a frictionless wall is never booked a push along itself: the shares
+    ``c_w n_w`` with ``c_w = P_w n_w.y`` and ``(sum P_w n_w n_w^T) y = target`` (the least change
+    weighted by ``1/P_w``), over the axes the normals span. What the normals cannot carry (a
+    remainder of rounding: an island at rest is held along every axis gravity pulls) is shared
+    in proportion to ``P_w``, so the shares always sum to ``target``. Returns them, one row each."""
+    rows = last - first
+    shares = np.zeros((rows, 3))
+    if rows == 0:
+        return shares
+    mat = np.zeros((3, 3))
+    for w in range(first, last):
+        size = math.sqrt(rows_f[w, 0] ** 2 + rows_f[w, 1] ** 2 + rows_f[w, 2] ** 2)
+        if size == 0.0:
+            continue
+        for i in range(3):
+            for j in range(3):
+                mat[i, j] += rows_f[w, i] * rows_f[w, j] / size
+    axes = np.zeros(3, np.int64)  # the axes the normals span (a 2D world's z is never one)
+    count = sk._int(0)
+    for k in range(3):
+        if mat[k, k] > SPAN_FRACTION * (mat[0, 0] + mat[1, 1] + mat[2, 2]):
+            axes[count] = k
+            count += 1
+    y = np.zeros(3)
+    if count > 0:
+        sub = np.empty((count, count))
+        rhs = np.empty(count)
+        for i in range(count):
+            rhs[i] = target[axes[i]]
+            for j in range(count):
+                sub[i, j] = mat[axes[i], axes[j]]
+        solved = _solve_small(sub, rhs, count)
+        for i in range(count):
+            y[axes[i]] = solved[i]
+    carried = np.zeros(3)
+    for w in range(first, last):
+        size = math.sqrt(rows_f[w, 0] ** 2 + rows_f[w, 1] ** 2 + rows_f[w, 2] ** 2)
+        if size == 0.0:
+            continue
+        c = rows_f[w, 0] * y[0] + rows_f[w, 1] * y[1] + rows_f[w, 2] * y[2]  # P_w n_w.y, times size
+        for k in range(3):
+            shares[w - first, k] = c * rows_f[w, k] / size
+            carried[k] += shares[w - first, k]
+    for w in range(first, last):  # the remainder, in proportion to P_w
+        part = math.sqrt(rows_f[w, 0] ** 2 + rows_f[w, 1] ** 2 + rows_f[w, 2] ** 2) / total
+        for k in range(3):
+            shares[w - first, k] += (target[k] - carried[k]) * part
+    return shares
+
+
+def _solve_small(mat: Any, rhs: Any, count: int) -> Any:
+    """``mat x = rhs`` for a symmetric positive definite ``count`` x ``count`` matrix (1 to 3):
+    Cholesky, written out (no LAPACK needed in the compiled form)."""
+    low = np.zeros((count, count))
+    for i in range(count):
+        for j in range(i + 1):
+            acc = mat[i, j]
+            for k in range(j):
+                acc -= low[i, k] * low[j, k]
+            if i == j:
+                low[i, i] = math.sqrt(max(acc, 0.0))
+            else:
+                low[i, j] = acc / low[j, j] if low[j, j] > 0.0 else 0.0
+    x = np.zeros(count)
+    for i in range(count):  # forward, then back
+        acc = rhs[i]
+        for k in range(i):
+            acc -= low[i, k] * x[k]
+        x[i] = acc / low[i, i] if low[i, i] > 0.0 else 0.0
+    for i in range(count - 1, -1, -1):
+        acc = x[i]
+        for k in range(i + 1, count):
+            acc -= low[k, i] * x[k]
+        x[i] = acc / low[i, i] if low[i, i] > 0.0 else 0.0
+    return x
+
+
 def _sleep(
     kind: Any, pos: Any, vel: Any, ext: Any, ima: Any, s_kind: Any, s_a: Any, s_b: Any, asleep: Any, still: Any,
     island: Any, parent: Any, memory: Any, memory_lam: Any, c: int, gravity: Any, dt: float,
@@ -896,18 +980,18 @@ def _sleep(
             row_count[0] += 1
         if total == 0.0:
             continue
-        need_x = -mass * gravity[0] * dt - sx
-        need_y = -mass * gravity[1] * dt - sy
-        need_z = -mass * gravity[2] * dt - sz
-        for w in range(first, row_count[0]):
-            part = math.sqrt(rows_f[w, 0] ** 2 + rows_f[w, 1] ** 2 + rows_f[w, 2] ** 2) / total  # its share of P
+        need = np.empty(3)
+        for k in range(3):
+            need[k] = -mass * gravity[k] * dt - (sx if k == 0 else (sy if k == 1 else sz))
+        last = row_count[0]
+        shares = _along_normals(rows_f, first, last, total, need)
+        momentum = np.array((px, py, pz))
+        stopped = _along_normals(rows_f, first, last, total, momentum)  # what sleep took away
+        for w in range(first, last):
             s = rows_i[w, 0]
-            rows_f[w, 0] += need_x * part
-            rows_f[w, 1] += need_y * part
-            rows_f[w, 2] += need_z * part
-            static_impulse[s, 0] -= px * part
-            static_impulse[s, 1] -= py * part
-            static_impulse[s, 2] -= pz * part
+            for k in range(3):
+                rows_f[w, k] += shares[w - first, k]
+                static_impulse[s, k] -= stopped[w - first, k]
         for i in range(n):
             if asleep[i] == 0 and _root(parent, i) == r:
                 asleep[i] = 1
