@@ -831,3 +831,15 @@ def test_a_bad_kernels_value_is_a_usage_error_naming_the_flag_and_its_choices(co
     assert result.status == 2 and result.out == "" and "Traceback" not in result.err
     line = result.err.strip().splitlines()[-1]
     assert "--kernels" in line and "'auto', 'python', 'compiled'" in line
+
+
+def test_kernels_python_is_refused_for_balls_run_event_by_event(tmp_path: Path) -> None:
+    path = tmp_path / "box.toml"
+    path.write_text(
+        '[simulation]\nmode = "exact"\nsteps = 5\n[[gas]]\nname = "d"\nshape = "circle"\nradius = 0.5\n'
+        "region = [[0, 0], [20, 20]]\ncount = 20\nseed = 3\n[box]\nregion = [[0, 0], [20, 20]]\n"
+    )
+    result = run_cli(["run", str(path), "--kernels", "python"])
+    assert result.status == 2 and result.out == ""
+    assert result.err.startswith("collisionlab: --kernels: python is not available") and result.err.count("\n") == 1
+    assert run_cli(["run", str(path), "--kernels", "auto", "--quiet"]).status == 0

@@ -206,6 +206,12 @@ def execute(
                 except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
                     flag = error.field.replace("simulation.", "--")
                     raise error.renamed(flag) if flag[2:] in overrides else error from None
+            if args.kernels == "python" and scenario.event_driven:  # said before anything compiles
+                raise InvalidInputError(
+                    "--kernels",
+                    "python is not available for balls in a box in exact mode: they run event by event, "
+                    "in a loop that runs compiled only (use --kernels auto, or --mode euler)",
+                )
             if pictures:  # pictures keep every frame: they must fit in memory (said before the run)
                 limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
             if index:
