@@ -4,7 +4,9 @@ and ``collisionlab compile`` call :func:`load_kernels`.
 
 numba compiles a kernel at its first call, for the types of its arguments; a world's kernels take
 the same types whatever its size, so a tiny world of the same stepper, stepped twice, loads the
-very machine code the real one will run (the test suite's ``conftest.py`` relies on the same).
+very machine code the real one will run (the test suite's ``conftest.py`` relies on the same;
+checked: after it, a gas of 500 spheres, the ``spheres`` demo in exact mode and the ``stack`` demo
+with solved contacts each found their kernel among numba's overloads, one, with no cache miss).
 """
 
 from __future__ import annotations
