@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Set up and run collisionlab with nothing but Python 3.11 and pip (``make`` is optional).
 
-    python3 tasks.py run     # a virtual environment in .venv, then the lab's four demos
+    python3 tasks.py run     # a virtual environment in .venv, every kernel compiled, then the lab's four demos
     python3 tasks.py test    # the same with the test tools, then ruff, mypy, the docs site and pytest
     python3 tasks.py bench   # the many-body benchmark against pymunk and pybullet (bench/README.md)
     python3 tasks.py bench-engine   # the engine's figures: a 2,020-body scenario, memory, start-up
@@ -78,6 +78,7 @@ def setup(*extras: str) -> None:
 
 def run() -> None:
     setup()
+    sh(BIN / "collisionlab", "compile")  # every kernel now (once per machine), so no run waits for it
     sh(BIN / "collisionlab", "demo")
 
 

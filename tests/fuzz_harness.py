@@ -329,12 +329,14 @@ _WORDS = ["run", "demo", "menu", "gas", "spheres", "head-on", "stack", "nope", "
           "table", "3", "0", "-1", "0.01", "1e308", "1e-300", "nan", "inf", "x", "", "--help", "--bogus",
           "--output", str(_FOLDER / "out.txt"), str(_FOLDER), str(_FOLDER / "missing" / "o.txt"), "--n",
           "--dim", "--seed", "--gravity", "--speeds", "equal", "--backend", "numpy", "99999999999999999999",
+          "--kernels", "python", "compiled", "compile",
           str(EXAMPLES / "bouncing-ball.toml"), str(EXAMPLES / "none.toml"), "/dev/zero", "-", "--time",
           "--fraction", "--tc", "--boundary", "periodic", "--events", str(_FOLDER / "ev.csv"), "--mode", "exact",
           "5e-324", "9" * 400, "x" * 400, str(_FOLDER / ("p" * 300))]  # fmt: skip
 _OPTIONS = st.sampled_from(
     [["--steps", "5"], ["--dt", "0.05"], ["--dt", "1e-9"], ["--dt", "1e6"], ["--mode", "exact"], ["--mode", "euler"],
      ["--restitution", "0.5"], ["--restitution", "10"], ["--restitution", "1e308"], ["--every", "2"],
+     ["--kernels", "python"], ["--kernels", "compiled"], ["--kernels", "fast"],
      ["--format", "json"], ["--format", "csv"], ["--quiet"], ["--explain"], ["--output", str(_FOLDER / "o.txt")],
      ["--output", ""], ["--steps", "2000001"], ["--steps", "1e23"], ["--steps", "9" * 400],
      ["--output", str(_FOLDER / ("p" * 300) / "o.txt")], ["--output", str(_FOLDER / "missing" / ("o" * 400))]]

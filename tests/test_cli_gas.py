@@ -194,3 +194,37 @@ def test_ctrl_c_during_gas_exits_130_in_every_mode(tmp_path: Path, backend: str,
     assert status == 130, err
     assert err.decode().rstrip().endswith("collisionlab: interrupted")
     assert b"Error" not in err
+
+
+# --- issue 28: one option for the kernels' form, and compile time apart ---------------------------
+def test_kernels_python_and_compiled_give_the_same_run_and_backend_stays_an_alias() -> None:
+    argv = ["--n", "200", "--steps", "40", "--format", "json", "--quiet"]
+    reports = {form: json.loads(run([*argv, "--kernels", form])[1]) for form in ("python", "compiled")}
+    reports["alias"] = json.loads(run([*argv, "--backend", "numba"])[1])
+    assert reports["python"]["backend"] == "python"
+    assert reports["compiled"]["backend"] == reports["alias"]["backend"] == "numba"
+    for key in ("collisions", "wall_collisions", "kinetic_energy_end"):
+        assert reports["python"][key] == reports["compiled"][key] == reports["alias"][key]
+
+
+def test_compile_seconds_is_reported_apart_and_zero_for_the_python_form() -> None:
+    argv = ["--n", "100", "--steps", "10", "--format", "json"]
+    assert json.loads(run([*argv, "--kernels", "python", "--quiet"])[1])["compile_seconds"] == 0
+    assert json.loads(run([*argv, "--kernels", "compiled"])[1])["compile_seconds"] >= 0
+    exact = ["--mode", "exact", "--n", "50", "--time", "0.5", "--format", "json", "--quiet"]
+    assert json.loads(run(exact)[1])["compile_seconds"] >= 0  # run() checks the schema
+
+
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        (["--kernels", "fast"], ["--kernels", "invalid choice", "'auto', 'python', 'compiled'"]),
+        (["--kernels", "python", "--backend", "numba"], ["--kernels", "--backend numba"]),
+        (["--kernels", "python", "--mode", "exact"], ["--kernels", "compiled only"]),
+    ],
+)
+def test_bad_kernels_are_refused_naming_the_flag(argv: list[str], words: list[str]) -> None:
+    status, out, err = run(["--n", "100", *argv])
+    assert status == 2 and out == "" and "Traceback" not in err
+    line = err.strip().splitlines()[-1]
+    assert all(word in line for word in words), line

@@ -294,6 +294,9 @@ def test_ctrl_c_while_the_answers_are_checked_exits_130(monkeypatch: pytest.Monk
         def __init__(self, scenario: object) -> None:
             pass
 
+        def load_kernels(self) -> float:
+            return 0.0
+
         def run(self, **_: object) -> None:
             raise KeyboardInterrupt
 

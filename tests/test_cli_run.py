@@ -810,3 +810,36 @@ def test_a_mass_too_small_is_refused_in_one_line_with_no_numpy_warning(tmp_path:
     assert result.status == 65
     assert "body[0].mass: must be at least" in result.err and result.err.count("\n") == 1
     assert [str(w.message) for w in caught] == []
+
+
+# --- issue 28: --kernels chooses the kernels' form; the output does not depend on it -------------
+@pytest.mark.parametrize("mode", ["euler", "exact"])
+def test_kernels_python_and_compiled_print_the_same_run(mode: str) -> None:
+    argv = ["demo", "bouncing-ball", "--mode", mode, "--steps", "120", "--quiet"]
+    for output in ("table", "json"):
+        outputs = {
+            form: run_cli([*argv, "--format", output, "--kernels", form]) for form in ("auto", "python", "compiled")
+        }
+        assert all(result.status == 0 for result in outputs.values()), outputs
+        assert outputs["python"].out == outputs["compiled"].out == outputs["auto"].out
+        assert outputs["python"].collisions() or output == "json"
+
+
+@pytest.mark.parametrize("command", [["run", "bouncing-ball"], ["demo", "bouncing-ball"]])
+def test_a_bad_kernels_value_is_a_usage_error_naming_the_flag_and_its_choices(command: list[str]) -> None:
+    result = run_cli([*command, "--kernels", "numba"])
+    assert result.status == 2 and result.out == "" and "Traceback" not in result.err
+    line = result.err.strip().splitlines()[-1]
+    assert "--kernels" in line and "'auto', 'python', 'compiled'" in line
+
+
+def test_kernels_python_is_refused_for_balls_run_event_by_event(tmp_path: Path) -> None:
+    path = tmp_path / "box.toml"
+    path.write_text(
+        '[simulation]\nmode = "exact"\nsteps = 5\n[[gas]]\nname = "d"\nshape = "circle"\nradius = 0.5\n'
+        "region = [[0, 0], [20, 20]]\ncount = 20\nseed = 3\n[box]\nregion = [[0, 0], [20, 20]]\n"
+    )
+    result = run_cli(["run", str(path), "--kernels", "python"])
+    assert result.status == 2 and result.out == ""
+    assert result.err.startswith("collisionlab: --kernels: python is not available") and result.err.count("\n") == 1
+    assert run_cli(["run", str(path), "--kernels", "auto", "--quiet"]).status == 0

@@ -388,3 +388,28 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
         assert asked == [called[0], *called[1:] * 2]
         assert locked == [stem for stem, _ in called]
         assert [line.split("; ")[1] for line in said] == ["about a minute)...", "about three minutes)..."]
+
+
+# --- issue 28: the compiled kernels loaded ahead of the first step ---------------------------------
+@pytest.mark.parametrize(("mode", "contacts"), [("euler", "events"), ("exact", "events"), ("exact", "solve")])
+def test_load_kernels_ahead_changes_nothing_of_the_run(mode: str, contacts: str) -> None:
+    from collisionlab.demos import load_demo
+
+    settings = {"mode": mode} if contacts == "events" else {"mode": mode, "contacts": contacts}
+    scenario = load_demo("bouncing-ball").with_settings(**settings)
+    python = World(scenario, WorldParams(compiled=False))
+    assert python.load_kernels() == 0.0  # the Python form loads nothing
+    compiled = World(scenario, WorldParams(compiled=True))
+    assert compiled.load_kernels() >= 0.0
+    assert compiled.load_kernels() == 0.0  # loaded already in this process
+    first, second = compiled.run(), python.run()
+    assert [e.to_dict() for e in first.events] == [e.to_dict() for e in second.events]
+    assert first.frames[-1].to_dict() == second.frames[-1].to_dict()
+
+
+def test_load_kernels_of_an_unknown_kind_names_it() -> None:
+    from collisionlab.engine.ahead import load_kernels
+    from collisionlab.errors import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match="kind"):
+        load_kernels("fortran")

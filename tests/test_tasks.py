@@ -72,3 +72,19 @@ def test_every_task_is_listed_in_the_usage() -> None:
     result = subprocess.run([sys.executable, str(REPO / "tasks.py")], capture_output=True, text=True, check=False)
     assert result.returncode == 2
     assert "run|test|bench|" in result.stderr and "|fuzz" in result.stderr
+
+
+def test_tasks_run_compiles_every_kernel_before_the_demos(monkeypatch: pytest.MonkeyPatch) -> None:
+    # issue 28: the first demo must not wait for the compiler.
+    tasks = _tasks()
+    calls: list[list[str]] = []
+
+    def fake_run(words: list[str], **_: object) -> subprocess.CompletedProcess[bytes]:
+        calls.append(words)
+        return subprocess.CompletedProcess(words, 0)
+
+    monkeypatch.setattr(tasks, "setup", lambda *extras: None)
+    monkeypatch.setattr(tasks.subprocess, "run", fake_run)
+    tasks.run()
+    assert [Path(words[0]).name for words in calls] == ["collisionlab", "collisionlab"]
+    assert [words[1:] for words in calls] == [["compile"], ["demo"]]

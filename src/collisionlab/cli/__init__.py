@@ -16,7 +16,7 @@ from .. import __version__
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, escape_controls
 from ..scenario_file import ScenarioError
 from ..world import InitialOverlapError
-from . import examples_command, gas_command, sweep_command
+from . import compile_command, examples_command, gas_command, sweep_command
 from .interrupts import Stopped, stop_on_signals
 from .run_command import add_run_parsers
 from .streams import Streams
@@ -72,6 +72,7 @@ def build_parser(streams: Streams) -> argparse.ArgumentParser:
     gas_command.add_parser(sub)
     examples_command.add_parser(sub)
     sweep_command.add_parser(sub)
+    compile_command.add_parser(sub)
     return parser
 
 

@@ -15,9 +15,10 @@ from typing import Any
 
 from .. import limits
 from ..engine import WorldParams
+from ..engine.ahead import KERNEL_CHOICES, load_kernels
 from ..engine.world import World
 from ..errors import InvalidInputError, OutOfRangeError
-from ..particles import BACKENDS, gas_scenario, pick_backend
+from ..particles import BACKENDS, gas_scenario
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
 from .interrupts import between_chunks, deferred_interrupts, interrupts_for
 from .progress import ProgressBar
@@ -36,6 +37,7 @@ _FLAGS = {
     "gravity": "--gravity",
     "speeds": "--speeds",
     "backend": "--backend",
+    "kernels": "--kernels",
     "plot": "--plot",
     "fraction": "--fraction",
     "boundary": "--boundary",
@@ -75,7 +77,16 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         default="gaussian",
         help="initial speeds: gaussian (Maxwell-Boltzmann already) or equal (watch them relax)",
     )
-    parser.add_argument("--backend", choices=BACKENDS, default="auto", help="kernels: numba if installed")
+    parser.add_argument(
+        "--kernels",
+        choices=KERNEL_CHOICES,
+        default=None,
+        help="the kernels' form: compiled (numba; auto means it: a gas is large) or python (far slower); "
+        "loaded, or compiled once per machine, before the clock starts",
+    )
+    parser.add_argument(
+        "--backend", choices=BACKENDS, default=None, help="the older name of --kernels (numba: compiled)"
+    )
     parser.add_argument("--plot", metavar="FILE.png", help="write the speed distribution against Maxwell-Boltzmann")
     parser.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
     exact = parser.add_argument_group("exact mode (--mode exact: event-driven, no time step)")
@@ -98,6 +109,7 @@ def _table(report: dict[str, Any]) -> list[str]:
         f"(seed {report['seed']}, e = {report['restitution']:g}, gravity {report['gravity']:g}, "
         f"dt = {report['dt']:.4g})",
         f"  backend          {report['backend']}",
+        *_compiling(report),
         f"  stepping         {report['seconds']:.3f} s",
         f"  body-steps/s     {report['body_steps_per_s'] / 1e6:.2f} million",
         f"  collisions       {report['collisions']:,} between balls, {report['wall_collisions']:,} with walls",
@@ -107,6 +119,24 @@ def _table(report: dict[str, Any]) -> list[str]:
     if report.get("plot"):
         lines.append(f"  plot             {report['plot']}")
     return lines
+
+
+def _compiling(report: dict[str, Any]) -> list[str]:
+    """The table's line for the time spent loading (or compiling) the kernels, when any."""
+    seconds = report["compile_seconds"]
+    return [f"  compiling        {seconds:.3f} s (before the clock: not in the rates)"] if seconds > 0 else []
+
+
+def _kernels(args: argparse.Namespace) -> str:
+    """``--kernels``, or what ``--backend`` (its older name) says: ``auto``, ``python`` or ``compiled``."""
+    if args.backend is None:
+        return "auto" if args.kernels is None else str(args.kernels)
+    alias = "compiled" if args.backend == "numba" else str(args.backend)
+    if args.kernels is not None and args.kernels != alias:
+        raise InvalidInputError(
+            "kernels", f"{args.kernels} disagrees with --backend {args.backend} (its older name); give one of them"
+        )
+    return alias
 
 
 def _bad_value(streams: Streams, err: InvalidInputError) -> int:
@@ -124,6 +154,7 @@ def _exact_table(report: dict[str, Any]) -> list[str]:
         f"{_PROG}: {report['n']:,} {shape} in {report['dim']}D, exact (event-driven), {report['boundary']}, "
         f"fraction {report['fraction']:g}, time {report['sim_time']:g} (seed {report['seed']}, "
         f"e = {report['restitution']:g}, gravity {report['gravity']:g})",
+        *_compiling(report),
         f"  simulation loop  {report['seconds']:.3f} s",
         f"  collisions       {report['collisions']:,} between balls, {report['wall_collisions']:,} with walls"
         + (f" ({report['collisions_per_s'] / 1e6:.3f} million/s)" if report["collisions_per_s"] else ""),
@@ -165,9 +196,15 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
             gravity=args.gravity,
             tc=args.tc,
         ).checked()
+        if _kernels(args) == "python":
+            raise InvalidInputError(
+                "kernels", "python is not available with --mode exact (its loop runs compiled only)"
+            )
         if args.events is not None:
             event_format(args.events)
-        # Checks the start (and compiles the loop, saying so) before any file is opened.
+        # The loop loaded (or compiled, saying so) and timed apart, then the start checked,
+        # before any file is opened.
+        compile_seconds = load_kernels("event-driven", streams.err if notes else None)
         world = World(gas.scenario(), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
         return _bad_value(streams, err)
@@ -187,6 +224,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
                 report["events_file"] = args.events
             else:
                 report = run_exact_gas(gas, world, between)
+        report["compile_seconds"] = compile_seconds
     except OSError as err:
         streams.err(f"{_PROG}: --events: cannot write {args.events}: {err.strerror or err}")
         return 1
@@ -214,7 +252,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
 
             check_plot_path(args.plot)
         gas = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
-        compiled = pick_backend(args.backend) == "numba"  # auto: numba, installed with the package
+        compiled = _kernels(args) != "python"  # auto: compiled (numba is installed with the package)
         world = World(
             gas.scenario(steps, restitution, gravity),
             WorldParams(compiled=compiled),
@@ -228,6 +266,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         return 1
     if restitution > 1.0:
         streams.err(f"warning: restitution {restitution:g} > 1: every collision adds kinetic energy")
+    compile_seconds = world.load_kernels()  # before the clock: compiling is not stepping
     if notes and not world.compiled:  # a first user may not know how much slower it is
         streams.err(f"{_PROG}: stepping with the kernels' Python form: far slower than numba (Ctrl-C stops it)")
     energy_start = world.kinetic_energy()
@@ -246,6 +285,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         "n": gas.n,
         "dim": gas.dim,
         "steps": steps,
+        "compile_seconds": compile_seconds,
         "seconds": seconds,
         "body_steps_per_s": gas.n * steps / seconds if seconds > 0 else None,
         "collisions": body_impulses,

@@ -391,9 +391,11 @@ def run_menu(streams: Streams) -> int:
             for q in case.questions:
                 if q.key in ("dt", "steps", "mode"):
                     answers[q.key] = dialogue.question(q, answers)
+    world = World(scenario)
+    world.load_kernels()  # before the bar's clock starts: compiling is not running
     bar = ProgressBar(streams, scenario.title)
     try:
-        record = World(scenario).run(progress=bar)
+        record = world.run(progress=bar)
     finally:
         bar.close()
     streams.stdout.write(render_table(record))

@@ -13,6 +13,8 @@ from typing import Any, TextIO, TypeVar
 from .. import limits
 from ..atomic import atomic_stream, check_target
 from ..demos import LAB_DEMOS, builtin_scenario_path, demo_names, load_demo
+from ..engine import WorldParams
+from ..engine.ahead import KERNEL_CHOICES, compiled_choice
 from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, did_you_mean, escape_controls, shorten
 from ..model import Scenario
 from ..record import RunObserver, RunRecord
@@ -74,6 +76,13 @@ def _add_common(parser: argparse.ArgumentParser) -> None:
         type=restitution_flag,
         metavar="E",
         help="default coefficient of restitution (overrides the scenario; > 1 adds energy)",
+    )
+    parser.add_argument(
+        "--kernels",
+        choices=KERNEL_CHOICES,
+        default="auto",
+        help="the kernels' form: auto (compiled for large runs, Python for small ones), python, or compiled "
+        "(numba; loaded, or compiled once per machine, before the run starts)",
     )
     parser.add_argument("--every", type=positive_int, default=1, metavar="K", help="print every K-th step")
     parser.add_argument("--format", choices=("table", "csv", "json"), default="table", help="output format")
@@ -181,6 +190,7 @@ def execute(
         k: getattr(args, k) for k in ("steps", "dt", "mode", "restitution", "contacts") if getattr(args, k) is not None
     }
     pictures = bool(args.plot or args.animate or args.html)
+    params = WorldParams(compiled=compiled_choice(args.kernels))
     listed = args.format == "json" and len(scenarios) > 1
     # The writers stream into a temporary file (disk, not memory: a run's frames and events are
     # written as they are produced); it reaches stdout or --output only when every run succeeded,
@@ -196,15 +206,25 @@ def execute(
                 except InvalidInputError as error:  # a flag out of range with this scenario: name the flag
                     flag = error.field.replace("simulation.", "--")
                     raise error.renamed(flag) if flag[2:] in overrides else error from None
+            if args.kernels == "python" and scenario.event_driven:  # said before anything compiles
+                raise InvalidInputError(
+                    "--kernels",
+                    "python is not available for balls in a box in exact mode: they run event by event, "
+                    "in a loop that runs compiled only (use --kernels auto, or --mode euler)",
+                )
             if pictures:  # pictures keep every frame: they must fit in memory (said before the run)
                 limits.check_frames(scenario.settings.steps, args.every, len(scenario.bodies), "--steps")
             if index:
                 spool.write(",\n" if args.format == "json" else "\n")
             writer = writer_for(args.format, spool, args.every, args.quiet, args.explain, streams.err)
+            try:
+                world = World(scenario, params, notify=streams.err)
+                world.load_kernels()  # before the progress bar's clock starts: compiling is not running
+            except OutOfRangeError as error:
+                raise error.within(sources[index]) if sources else error from None
             bar = ProgressBar(streams, scenario.title, quiet=args.quiet)
             try:
                 # Only pictures need the whole record; the output is written as the run goes.
-                world = World(scenario, notify=streams.err)
                 with contextlib.ExitStack() as stack:
                     observer: RunObserver = writer
                     if world.compiled:  # its kernels run without the GIL: the writer works beside them

@@ -8,6 +8,8 @@ Euler) or exactly.
 * :mod:`.step_kernels` - the Forward Euler stepper over arrays (grid broad phase, contacts in
   a geometric order, sequential impulses, push-apart, events).
 * :mod:`.compiled` - the same kernels compiled by numba, for large worlds.
+* :mod:`.ahead` - the compiled kernels loaded (or compiled) ahead of a run, timed apart from it,
+  and ``--kernels``' choices.
 * :mod:`.stepper` - :class:`~.stepper.EulerStepper`: what a Forward Euler run keeps between
   calls (scratch, the pairs in contact, buffers) and the one call that advances it.
 * :mod:`.exact_kernels` - the exact stepper over the same arrays (times of impact within each

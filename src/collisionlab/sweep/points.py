@@ -1,8 +1,9 @@
 """Run one point of a sweep and return its row of metrics.
 
 The only module of the sweep that calls the simulation, and only through the public API:
-:func:`collisionlab.scenario_file.parse_scenario` and :func:`collisionlab.world.simulate` for a
-scenario; for the gas, its scenario (:func:`collisionlab.particles.gas_scenario`, or
+:func:`collisionlab.scenario_file.parse_scenario` and a :class:`~collisionlab.engine.world.World`'s
+``run()`` for a scenario (its compiled kernels loaded first, out of the point's time); for
+the gas, its scenario (:func:`collisionlab.particles.gas_scenario`, or
 :class:`collisionlab.edmd.observables.ExactGas` with ``mode = "exact"``) on the engine's
 :class:`~collisionlab.engine.world.World`, exactly as ``collisionlab run``,
 ``collisionlab gas`` and ``collisionlab gas --mode exact`` do, so a row equals running its point alone.
@@ -25,7 +26,6 @@ from ..errors import InvalidInputError
 from ..particles import gas_scenario, pick_backend
 from ..record import RunRecord
 from ..scenario_file import parse_scenario
-from ..world import simulate
 from .theory import compressibility_from_collisions
 
 if TYPE_CHECKING:  # the exact gas (and numba) load only when a sweep runs it
@@ -199,9 +199,10 @@ def _scenario_metrics(record: RunRecord, seconds: float) -> dict[str, Any]:
 
 
 def _run_scenario(data: Mapping[str, Any]) -> dict[str, Any]:
-    scenario = parse_scenario(data, "scenario")
+    world = World(parse_scenario(data, "scenario"))
+    world.load_kernels()  # compiling (a worker's first task) is not the point's time
     began = time.perf_counter()
-    record = simulate(scenario)
+    record = world.run()
     return _scenario_metrics(record, time.perf_counter() - began)
 
 

@@ -1,0 +1,87 @@
+"""The compiled kernels loaded (or compiled, the first time on a machine) ahead of a run, so that
+no timed stepping waits for numba: a world's :meth:`~collisionlab.engine.world.World.load_kernels`
+and ``collisionlab compile`` call :func:`load_kernels`.
+
+numba compiles a kernel at its first call, for the types of its arguments; a world's kernels take
+the same types whatever its size, so a tiny world of the same stepper, stepped twice, loads the
+very machine code the real one will run (the test suite's ``conftest.py`` relies on the same;
+checked: after it, a gas of 500 spheres, the ``spheres`` demo in exact mode and the ``stack`` demo
+with solved contacts each found their kernel among numba's overloads, one, with no cache miss).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+from ..errors import InvalidInputError
+
+__all__ = ["KERNEL_CHOICES", "KERNEL_KINDS", "compiled_choice", "load_kernels"]
+
+#: ``--kernels``: ``auto`` lets the world choose by its expected cost (:data:`~.params.COMPILE_ABOVE`),
+#: ``python`` runs the kernels' Python form, ``compiled`` the numba form.
+KERNEL_CHOICES: tuple[str, ...] = ("auto", "python", "compiled")
+
+#: The kinds of kernels :func:`load_kernels` loads: one per stepper.
+KERNEL_KINDS: tuple[str, ...] = ("euler", "exact", "solve", "event-driven", "particles")
+
+_loaded: set[str] = set()
+
+
+def compiled_choice(kernels: str) -> bool | None:
+    """:attr:`WorldParams.compiled <collisionlab.engine.WorldParams>` for a ``--kernels`` choice.
+
+    >>> compiled_choice("auto"), compiled_choice("python"), compiled_choice("compiled")
+    (None, False, True)
+    """
+    if kernels not in KERNEL_CHOICES:
+        raise InvalidInputError("kernels", f"must be one of {', '.join(KERNEL_CHOICES)}", got=kernels)
+    return None if kernels == "auto" else kernels == "compiled"
+
+
+def _step_world(mode: str, contacts: str, notify: Callable[[str], None] | None) -> None:
+    from ..demos import load_demo
+    from .params import WorldParams
+    from .world import World
+
+    settings = {"mode": mode} if contacts == "events" else {"mode": mode, "contacts": contacts}
+    scenario = load_demo("bouncing-ball").with_settings(**settings)
+    World(scenario, WorldParams(compiled=True), notify=notify, events=False).step(2)
+
+
+def _event_driven(notify: Callable[[str], None] | None) -> None:
+    from ..edmd.compile import is_cached
+    from ..edmd.observables import ExactGas
+
+    if notify is not None and not is_cached():
+        notify("compiling the event-driven kernels (once per machine; about two minutes)...")
+    ExactGas(n=20, dim=2, fraction=0.1, time=0.1).world().run(0.1)
+
+
+def _particles() -> None:
+    from ..particles import warm_up
+
+    warm_up()
+
+
+def load_kernels(kind: str, notify: Callable[[str], None] | None = None) -> float:
+    """Load the compiled kernels of ``kind`` (one of :data:`KERNEL_KINDS`) from numba's cache,
+    or compile them (``notify`` is then told so, once); returns the seconds it took, 0.0 when
+    this process has loaded them already."""
+    if kind not in KERNEL_KINDS:
+        raise InvalidInputError("kind", f"must be one of {', '.join(KERNEL_KINDS)}", got=kind)
+    if kind in _loaded:
+        return 0.0
+    started = time.perf_counter()
+    if kind == "euler":
+        _step_world("euler", "events", notify)
+    elif kind == "exact":
+        _step_world("exact", "events", notify)
+    elif kind == "solve":
+        _step_world("exact", "solve", notify)
+    elif kind == "event-driven":
+        _event_driven(notify)
+    else:
+        _particles()
+    _loaded.add(kind)
+    return time.perf_counter() - started
