@@ -807,7 +807,7 @@ def _push_apart(
             c += 1
         shift = np.zeros((n, 3))
         scratch = np.zeros(STATUS_SIZE, np.int64)
-        _mprgp(ca, cb, cf, c, shift, weight, n, PUSH_ITERATIONS, scratch)
+        _mprgp(ca, cb, cf, c, shift, weight, n, sk._int(PUSH_ITERATIONS), scratch)
         for i in range(n):
             if weight[i] > 0.0:
                 for k in range(3):
