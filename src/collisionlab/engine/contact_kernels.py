@@ -82,8 +82,8 @@ HEAP_ROOM = 2
 #: The most iterations of conservative advancement for one prediction; the time reached is then
 #: used (never after the impact: the pair is looked at again there).
 TOI_ITERATIONS = 64
-#: The most iterations of one solve (``status[2]`` counts solves that stopped here): a settling
-#: pile of 2,000 circles needs of the order of this many; fewer leave it jittering.
+#: The most iterations of one solve (``status[2]`` counts solves that stopped here); fewer left
+#: the 2,000-circle pour jittering (bench/README.md, ``bench_piles.py``).
 MAX_SOLVER_SWEEPS = 500
 #: The most iterations of a solve most of whose touching contacts are new (nothing to start from: a
 #: stack's first step, where a column of k balls needs of the order of k^2 sweeps).
