@@ -77,13 +77,13 @@ def setup(*extras: str) -> None:
 
 
 def run() -> None:
-    setup()
+    setup("all")  # the sweeps' and the interactive page's extras too: the README's commands all work
     sh(BIN / "collisionlab", "compile")  # every kernel now (once per machine), so no run waits for it
     sh(BIN / "collisionlab", "demo")
 
 
 def test() -> None:
-    setup("dev")
+    setup("all", "dev")
     sh(BIN / "ruff", "check", "src", "tests", "bench", "tasks.py")
     sh(BIN / "ruff", "format", "--check", "src", "tests", "bench", "tasks.py")
     sh(BIN / "mypy")

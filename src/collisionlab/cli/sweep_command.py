@@ -15,6 +15,7 @@ from typing import Any
 from ..atomic import check_target
 from ..demos import builtin_sweep_path
 from ..errors import InvalidInputError
+from ..extras import require
 from .interrupts import Stopped, remembered_interrupts
 from .progress import LOG_EVERY, REDRAW_EVERY, SHOW_AFTER
 from .run_command import positive_int
@@ -26,6 +27,8 @@ _PROG = "collisionlab sweep"
 #: Rows of the table printed at most (the files hold them all).
 _PRINT_ROWS = 60
 EXIT_DATA = 65
+#: What a sweep imports from the `sweep` extra: the cluster, the Parquet file, the printed table.
+SWEEP_MODULES = ("distributed", "pyarrow", "pandas")
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -93,7 +96,10 @@ def _table(rows: list[dict[str, Any]], columns: list[tuple[str, str]]) -> str:
 
 
 def run(args: argparse.Namespace, streams: Streams) -> int:
-    """0 every row written, 65 a bad sweep file, 2 bad flags, 1 rows left unwritten or a failure."""
+    """0 every row written, 65 a bad sweep file, 2 bad flags, 1 rows left unwritten or a failure
+    (one of them: the ``sweep`` extra is not installed)."""
+    for module in SWEEP_MODULES:  # one line naming the extra, before anything is read or run
+        require(module, "sweep", "sweeps")
     from ..sweep.runner import dask_client, run_sweep, table_columns
     from ..sweep.spec import SweepError, load_sweep
     from ..sweep.store import ResultStore

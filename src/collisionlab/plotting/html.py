@@ -29,9 +29,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import plotly.graph_objects as go
 
 from ..atomic import atomic_path
+from ..extras import require
 from ..model import Scenario
 from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane
@@ -98,11 +98,17 @@ def _body_mesh(shape: Any, many: bool) -> tuple[Array, list[int], list[int], lis
     return verts, i, j, k
 
 
+def _plotly() -> Any:
+    """``plotly.graph_objects``, imported only when a page is drawn (the ``html`` extra)."""
+    return require("plotly.graph_objects", "html", "interactive pages (--html)")
+
+
 def _f32(values: Array) -> Any:
     return np.asarray(values, dtype=np.float32)
 
 
 def _obstacle_traces(run: RunArrays) -> list[Any]:
+    go = _plotly()
     traces: list[Any] = []
     bounds = run.bounds()
     for obstacle in run.scenario.obstacles:
@@ -136,6 +142,7 @@ def _event_traces(run: RunArrays) -> list[Any]:
     events = run.shown_events()
     if not events:
         return []
+    go = _plotly()
     p = np.array([e.point.as_tuple() for e in events])
     hover = [f"collision at step {e.step}<br>t = {e.time:.4g} s<br>{e.bodies[0]} \u2194 {e.bodies[1]}" for e in events]
     keep = uncrowded(p, 0.15 * run.bounds().span)
@@ -151,6 +158,7 @@ def _event_traces(run: RunArrays) -> list[Any]:
 
 def build_figure(record: RunRecord, scenario: Scenario) -> tuple[Any, RunArrays]:
     """The plotly figure of a run (see the module's docstring) and the arrays it was drawn from."""
+    go = _plotly()
     run = RunArrays.build(record, scenario)
     dims = record.dims
     shapes = {b.name: b.shape for b in scenario.bodies}
@@ -304,7 +312,10 @@ def _embedded_data(run: RunArrays) -> str:
 
 
 def check_html_path(path: str) -> Path:
-    """``path`` if the page can be written there, else ``InvalidInputError("--html", ...)``."""
+    """``path`` if the page can be written there, else ``InvalidInputError("--html", ...)``;
+    ``MissingExtraError`` when plotly (the ``html`` extra) is not installed, so a run asked for a
+    page fails before it starts."""
+    _plotly()
     return check_path(path, "--html", (".html", ".htm"), "FILE.html in an existing folder")
 
 

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from ..errors import CollisionLabError
+from ..extras import require
 from .points import Task, metric_columns, run_point
 from .spec import SweepSpec, Value
 from .store import Column, ResultStore, column_type
@@ -89,6 +90,7 @@ def _cell(value: Value, kind: str) -> object:
 def dask_client(scheduler: str | None = None, workers: int | None = None) -> Iterator[Client]:
     """A ``distributed.Client``: on the cluster at ``scheduler``, or on a new local cluster of
     ``workers`` single-threaded processes (default :func:`machine_workers`), closed on leaving."""
+    require("distributed", "sweep", "sweeps")
     from distributed import Client, LocalCluster
 
     if scheduler is not None:

@@ -29,6 +29,7 @@ from typing import Any
 
 from ..atomic import atomic_path
 from ..errors import CollisionLabError
+from ..extras import require
 
 __all__ = ["SNAPSHOT_SECONDS", "SYNC_SECONDS", "Column", "ResultStore", "column_type", "format_cell", "parse_cell"]
 
@@ -175,8 +176,8 @@ class ResultStore:
 
     def write_parquet(self) -> None:
         """Rewrite the Parquet file with every row so far, sorted, atomically."""
-        import pyarrow as pa
-        import pyarrow.parquet as pq
+        pa = require("pyarrow", "sweep", "sweeps")
+        pq = require("pyarrow.parquet", "sweep", "sweeps")
 
         types = {"int": pa.int64(), "float": pa.float64(), "bool": pa.bool_(), "str": pa.string()}
         rows = self.sorted_rows()
