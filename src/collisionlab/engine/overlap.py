@@ -1,8 +1,10 @@
 """Bodies that overlap at the start, found in NumPy before any kernel is compiled.
 
-The search is a sort and sweep along the axis over which the bodies spread most: each body meets
-only the bodies after it whose extent along that axis begins before its own ends, so bodies
-spread out cost about ``n log n``. Candidate pairs are formed and measured a chunk at a time
+The search is the kernels' uniform grid (``step_kernels.AXIS_CELLS`` and its cell keys):
+all but the widest bodies are binned in cells as wide as the widest of them and meet the bodies
+in their own and the neighbouring cells; the few wide ones meet, by a sweep along x, the bodies
+whose extent meets theirs. Bodies spread out cost about ``n log n`` (the sorts). Candidate pairs
+are formed and measured a chunk at a time
 (memory stays bounded); a search asked only whether anything overlaps stops at the first chunk
 that holds an overlap, so even a thousand bodies at one point are refused at once.
 
@@ -31,7 +33,7 @@ __all__ = ["InitialOverlapError", "Overlaps", "find_overlaps", "overlap_message"
 _CHUNK_PAIRS = 1 << 16
 
 #: A grid cell's key: its coordinates (each below ``AXIS_CELLS``) packed as the kernels' keys.
-_KEY_SCALE = np.array([1, 2**21, 2**42], np.int64)
+_KEY_SCALE = np.array([1, sk._KEY_Y, sk._KEY_Z], np.int64)
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -178,8 +180,9 @@ def _grid_pairs(
     place = np.arange(rows.size)
     for offset in stencil(dims):
         if not offset.any():  # its own cell: the bodies after it there
+            own = np.searchsorted(cell_keys, keys)
             first = place + 1
-            count = cell_first[np.searchsorted(cell_keys, keys)] + cell_count[np.searchsorted(cell_keys, keys)] - first
+            count = cell_first[own] + cell_count[own] - first
         else:
             wanted = keys + int(offset @ _KEY_SCALE)
             at = np.minimum(np.searchsorted(cell_keys, wanted), cell_keys.size - 1)
