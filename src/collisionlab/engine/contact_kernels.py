@@ -41,7 +41,9 @@ One step of ``dt`` (``h = dt / 2``), in this fixed order:
    touches a static, holds no kinematic body, and whose bodies all stayed slower than
    ``SLEEP_SPEED`` for ``SLEEP_TIME`` falls asleep: it no longer flies, is solved or listed
    against itself, and its supports go on carrying exactly its weight (``static_impulses``). An
-   impact on a sleeping body, or a contact of an awake body with it, wakes its island.
+   island is pushed apart once more as it falls asleep, to convergence (``SETTLE_ROUNDS``): a
+   pile at rest shows no overlap one step's push-apart left. An impact on a sleeping body, or a
+   contact of an awake body with it, wakes its island.
 
 Each static's total impulse on the bodies is summed in ``static_impulse`` (momentum balance:
 their sum is ``P_end - P_start - M g T``).
@@ -92,6 +94,9 @@ COLD_SOLVER_SWEEPS = 2000
 #: solve of its own, from the gaps anew).
 PUSH_ROUNDS = 2
 PUSH_ITERATIONS = 100
+#: Push-apart's rounds and iterations over an island as it falls asleep: once, so thorough.
+SETTLE_ROUNDS = 8
+SETTLE_ITERATIONS = 1000
 #: An axis counts as spanned by a sleeping island's support normals when its diagonal entry of
 #: ``sum P_w n_w n_w^T`` is more than this fraction of the trace (dimensionless): a 2D world's
 #: z axis (exactly 0) never is, and a share along an axis no support pushes on is not booked.
@@ -764,7 +769,7 @@ def _contact_kinetic(pairs: Any, contacts: Any, c: int, vel: Any, ima: Any, n: i
 # --- the end of a step -------------------------------------------------------------------------
 def _push_apart(
     kind: Any, pos: Any, ext: Any, ima: Any, asleep: Any, s_kind: Any, s_a: Any, s_b: Any,
-    pairs: Any, count: int, gravity: Any, slop: float, ledger: Any,
+    pairs: Any, count: int, gravity: Any, slop: float, ledger: Any, rounds: int, iterations: int,
 ) -> None:  # fmt: skip
     """Pairs overlapping by more than ``slop`` are moved apart until they touch, velocities
     untouched (a sleeping body does not move). All at once: the displacements ``d = M^-1 J^T P``
@@ -772,12 +777,12 @@ def _push_apart(
     are the same quadratic program as the velocity solve's (:func:`_mprgp`, with gaps for
     velocities; the split impulse of Catto's and Bullet's solvers), so an overlap wedged in a
     pile is undone by moving the pile around it, not traded for a new one each step. Up to
-    ``PUSH_ROUNDS`` rounds, each from the gaps anew (a circle moved sideways along a neighbour
-    ends a little into it). The energy this changes (``-m g.dx``) goes to ``ledger[2]``, the
+    ``rounds`` rounds of at most ``iterations`` each, each from the gaps anew (a circle moved
+    sideways along a neighbour ends a little into it). The energy this changes (``-m g.dx``) goes to ``ledger[2]``, the
     deepest overlap to ``ledger[4]``."""
     n = pos.shape[0]
     gaps = np.empty(count)
-    for _ in range(PUSH_ROUNDS):
+    for _ in range(rounds):
         deepest = 0.0
         for p in range(count):
             gaps[p] = _sep_now(kind, pos, ext, s_kind, s_a, s_b, pairs[p, 0], pairs[p, 1])[0]
@@ -807,7 +812,7 @@ def _push_apart(
             c += 1
         shift = np.zeros((n, 3))
         scratch = np.zeros(STATUS_SIZE, np.int64)
-        _mprgp(ca, cb, cf, c, shift, weight, n, sk._int(PUSH_ITERATIONS), scratch)
+        _mprgp(ca, cb, cf, c, shift, weight, n, iterations, scratch)
         for i in range(n):
             if weight[i] > 0.0:
                 for k in range(3):
@@ -1090,9 +1095,15 @@ def run_contact_steps(
                     break
                 left = dt - t
         pairs, pf, adj = lists[0], lists[1], lists[2]
-        _push_apart(kind, pos, ext, ima, asleep, s_kind, s_a, s_b, pairs, count, gravity, slop, ledger)
+        _push_apart(kind, pos, ext, ima, asleep, s_kind, s_a, s_b, pairs, count, gravity, slop, ledger,
+                    sk._int(PUSH_ROUNDS), sk._int(PUSH_ITERATIONS))  # fmt: skip
+        asleep_before = asleep.copy()
         rows_i, rows_f = _sleep(
             kind, pos, vel, ext, ima, s_kind, s_a, s_b, asleep, still, island, parent, memory, memory_lam,
             memory_count[0], gravity, dt, rows_i, rows_f, row_count, ledger, static_impulse, status,
         )  # fmt: skip
+        if (asleep != asleep_before).any():  # an island fell asleep: it is left as it lies, so
+            # without the overlaps one step's push-apart left (what a pile at rest shows)
+            _push_apart(kind, pos, ext, ima, asleep_before, s_kind, s_a, s_b, pairs, count, gravity, slop, ledger,
+                        sk._int(SETTLE_ROUNDS), sk._int(SETTLE_ITERATIONS))  # fmt: skip
     return lists[0], lists[1], lists[2], contacts, memory, memory_lam, rows_i, rows_f, events
