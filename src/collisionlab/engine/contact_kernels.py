@@ -25,11 +25,13 @@ One step of ``dt`` (``h = dt / 2``), in this fixed order:
    in contact stops approaching (an overlap stops growing; push-apart undoes it), and a pair
    still apart may close its gap no sooner than it is solved again (a speculative contact, as in
    Box2D v3). That is a bound-constrained quadratic program in ``P`` (the Signorini condition at
-   velocity level), solved by MPRGP (modified proportioning with reduced gradient projections,
-   Dostal 2009): conjugate gradients on the pushing contacts, which reach the bottom of a deep
-   pile in far fewer iterations than Gauss-Seidel sweeps, started from the last step's impulses
-   (contact memory, keyed by the pair) and iterated until every contact's projected gradient is
-   below ``SOLVER_TOLERANCE`` or ``MAX_SOLVER_SWEEPS`` iterations. A body at rest on a support
+   velocity level), started from the last step's impulses (contact memory, keyed by the pair)
+   and iterated until every contact's projected gradient is below ``SOLVER_TOLERANCE``: first by
+   MPRGP (modified proportioning with reduced gradient projections, Dostal 2009; conjugate
+   gradients on the pushing contacts, which end a stack's in a few iterations), then, for a heap
+   whose pushing set keeps changing, by accelerated projected gradient descent (APGD; Mazhar et
+   al. 2015), both far fewer iterations than Gauss-Seidel sweeps for the bottom of a deep pile,
+   up to ``MPRGP_SWEEPS`` and ``APGD_SWEEPS``. A body at rest on a support
    gets ``-g h`` at mid-step, which its flight turns into 0 by the step's end: an impulse applied
    at mid-step between two exact half flights is Moreau's ``x' = x + (v + v') dt / 2``,
    ``v' = v + g dt + P / m``, so free flight stays exact and a support does no work on a body at
@@ -67,7 +69,7 @@ else:
     from . import geometry_kernels as gk
     from . import step_kernels as sk
 
-__all__ = ["MAX_IMPACTS_PER_STEP", "MAX_SOLVER_SWEEPS", "PAIR_COLUMNS", "STATUS_SIZE", "run_contact_steps"]
+__all__ = ["MAX_IMPACTS_PER_STEP", "PAIR_COLUMNS", "STATUS_SIZE", "run_contact_steps"]
 
 #: The most impacts resolved within one flight; past it the flight ends without the rest (the
 #: world warns; ``status[0]`` counts such flights).
@@ -84,19 +86,24 @@ HEAP_ROOM = 2
 #: The most iterations of conservative advancement for one prediction; the time reached is then
 #: used (never after the impact: the pair is looked at again there).
 TOI_ITERATIONS = 64
-#: The most iterations of one solve (``status[2]`` counts solves that stopped here); fewer left
-#: the 2,000-circle pour jittering (bench/README.md, ``bench_piles.py``).
-MAX_SOLVER_SWEEPS = 500
 #: The most iterations of a solve most of whose touching contacts are new (nothing to start from: a
 #: stack's first step, where a column of k balls needs of the order of k^2 sweeps).
 COLD_SOLVER_SWEEPS = 2000
+#: A warm solve's most MPRGP iterations (enough for a stack), then APGD's (a heap); one that
+#: stops there is counted in ``status[2]``. Fewer left the 2,000-circle pour jittering
+#: (bench/README.md, ``bench_piles.py``).
+MPRGP_SWEEPS = 50
+APGD_SWEEPS = 300
 #: The most rounds of push-apart at the end of a step, and the most iterations of each (a
-#: solve of its own, from the gaps anew).
+#: solve of its own, from the gaps anew): MPRGP alone (with APGD after 20 of it, the pour's
+#: push-apart booked 1 J a step and the pile never slept).
 PUSH_ROUNDS = 2
-PUSH_ITERATIONS = 100
+PUSH_MPRGP = 100
+PUSH_APGD = 0
 #: Push-apart's rounds and iterations over an island as it falls asleep: once, so thorough.
 SETTLE_ROUNDS = 8
-SETTLE_ITERATIONS = 1000
+SETTLE_MPRGP = 50
+SETTLE_APGD = 2000
 #: An axis counts as spanned by a sleeping island's support normals when its diagonal entry of
 #: ``sum P_w n_w n_w^T`` is more than this fraction of the trace (dimensionless): a 2D world's
 #: z axis (exactly 0) never is, and a share along an axis no support pushes on is not booked.
@@ -106,7 +113,7 @@ SPAN_FRACTION = 1e-12
 #: adds to the normal velocity by the step's end.
 PAIR_COLUMNS = 9
 #: Counters returned to the world: flights that hit MAX_IMPACTS_PER_STEP, impacts, solves that
-#: hit MAX_SOLVER_SWEEPS, listings, bodies asleep now, iterations of the solves.
+#: hit their cap, listings, bodies asleep now, iterations of the solves.
 STATUS_SIZE = 6
 #: What a flight returns with: it reached its end; it must list the candidates again first.
 DONE = 0
@@ -570,8 +577,10 @@ def _solve(
         cf[q, 4] = pf[p, 7]
         cf[q, 5] = pf[p, 8]
         cf[q, 6] = pf[p, 5]
-    sweeps = COLD_SOLVER_SWEEPS if 2 * cold > c else MAX_SOLVER_SWEEPS
-    if not _mprgp(ca, cb, cf, c, vel, ima, n, sweeps, status):
+    if 2 * cold > c:
+        if not _mprgp(ca, cb, cf, c, vel, ima, n, sk._int(COLD_SOLVER_SWEEPS), status):
+            status[2] += 1
+    elif not _qp(ca, cb, cf, c, vel, ima, n, sk._int(MPRGP_SWEEPS), sk._int(APGD_SWEEPS), status):
         status[2] += 1
     for q in range(c):
         pf[contacts[q], 5] = cf[q, 6]
@@ -654,6 +663,80 @@ def _move(ca: Any, cb: Any, cf: Any, c: int, vel: Any, u: Any, g: Any, ad: Any, 
     return fad
 
 
+def _bound(ca: Any, cb: Any, c: int, ima: Any, n: int) -> float:
+    """Gershgorin's bound on ``||A||``, ``A = J M^-1 J^T``: the largest row sum of ``|A|``."""
+    degree = np.zeros(n)
+    for q in range(c):
+        degree[cb[q]] += 1.0
+        if ca[q] >= 0:
+            degree[ca[q]] += 1.0
+    norm = 0.0
+    for q in range(c):
+        a = ca[q]
+        b = cb[q]
+        norm = max(norm, ima[b] * degree[b] + (ima[a] * degree[a] if a >= 0 else 0.0))
+    return norm
+
+
+def _qp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, first: int, then: int, status: Any) -> bool:
+    """The contacts' quadratic program: up to ``first`` iterations of :func:`_mprgp` (which ends a
+    stack's in a few), then up to ``then`` of :func:`_apgd` from where it stopped (a heap's).
+    Returns whether it converged."""
+    return _mprgp(ca, cb, cf, c, vel, ima, n, first, status) or _apgd(ca, cb, cf, c, vel, ima, n, then, status)
+
+
+def _apgd(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterations: int, status: Any) -> bool:
+    """The quadratic program of :func:`_mprgp` by accelerated projected gradient descent (Nesterov's
+    method with the gradient restart; Mazhar, Heyn, Negrut and Tasora 2015, as in Chrono): each
+    iteration a step ``1 / ||A||`` down the gradient at the extrapolated point ``y``, projected
+    onto ``P >= 0``, then ``y`` moved on with momentum. Where the pushing set keeps changing
+    (a heap of balls in a lattice has more contacts than degrees of freedom: ``A`` is singular
+    and MPRGP spends its iterations restarting) it gains steadily, at three passes over the
+    contacts an iteration. ``vel`` holds the velocities of the impulses ``cf[:, 6]`` on entry and
+    on return. Returns whether every projected gradient fell to ``SOLVER_TOLERANCE``."""
+    norm = _bound(ca, cb, c, ima, n)
+    if norm == 0.0:
+        return True
+    step = 1.0 / norm
+    g = np.empty(c)
+    y = np.empty(c)  # the extrapolated impulses; ``vel`` holds their velocities meanwhile
+    nxt = np.empty(c)
+    for q in range(c):
+        y[q] = cf[q, 6]
+    theta = 1.0
+    done = False
+    for _ in range(iterations):
+        status[5] += 1
+        _gradient(ca, cb, cf, c, vel, g)
+        worst = 0.0
+        rising = 0.0
+        for q in range(c):
+            if y[q] > 0.0:
+                worst = max(worst, abs(g[q]))
+            elif g[q] < 0.0:
+                worst = max(worst, -g[q])
+            nxt[q] = max(y[q] - step * g[q], 0.0)
+            rising += g[q] * (nxt[q] - cf[q, 6])
+        if worst <= SOLVER_TOLERANCE:
+            done = True
+            break
+        squared = theta * theta
+        then = 0.5 * (theta * math.sqrt(squared + 4.0) - squared)
+        beta = theta * (1.0 - theta) / (squared + then)
+        theta = then
+        if rising > 0.0:  # the objective would rise: start the momentum afresh
+            beta = 0.0
+            theta = 1.0
+        for q in range(c):
+            ahead = nxt[q] + beta * (nxt[q] - cf[q, 6])
+            _kick(vel, ima, ca[q], cb[q], cf, q, ahead - y[q])
+            y[q] = ahead
+            cf[q, 6] = nxt[q]
+    for q in range(c):  # the velocities back to the impulses' own
+        _kick(vel, ima, ca[q], cb[q], cf, q, cf[q, 6] - y[q])
+    return done
+
+
 def _mprgp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterations: int, status: Any) -> bool:
     """Solve the contacts' impulses ``P >= 0`` (``cf[:, 6]``, started from the warm start the
     velocities already hold) so that each pair separates by the step's end at least at its
@@ -671,16 +754,7 @@ def _mprgp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterat
     ap = np.empty(c)
     d = np.empty(c)
     u = np.zeros((n, 3))
-    degree = np.zeros(n)
-    for q in range(c):
-        degree[cb[q]] += 1.0
-        if ca[q] >= 0:
-            degree[ca[q]] += 1.0
-    norm = 0.0  # Gershgorin's bound on ||A||
-    for q in range(c):
-        a = ca[q]
-        b = cb[q]
-        norm = max(norm, ima[b] * degree[b] + (ima[a] * degree[a] if a >= 0 else 0.0))
+    norm = _bound(ca, cb, c, ima, n)
     if norm == 0.0:
         return True
     bar = 1.0 / norm  # the expansion's fixed step, in (0, 2/||A||]
@@ -769,7 +843,7 @@ def _contact_kinetic(pairs: Any, contacts: Any, c: int, vel: Any, ima: Any, n: i
 # --- the end of a step -------------------------------------------------------------------------
 def _push_apart(
     kind: Any, pos: Any, ext: Any, ima: Any, asleep: Any, s_kind: Any, s_a: Any, s_b: Any,
-    pairs: Any, count: int, gravity: Any, slop: float, ledger: Any, rounds: int, iterations: int,
+    pairs: Any, count: int, gravity: Any, slop: float, ledger: Any, rounds: int, first: int, then: int,
 ) -> None:  # fmt: skip
     """Pairs overlapping by more than ``slop`` are moved apart until they touch, velocities
     untouched (a sleeping body does not move). All at once: the displacements ``d = M^-1 J^T P``
@@ -777,9 +851,9 @@ def _push_apart(
     are the same quadratic program as the velocity solve's (:func:`_mprgp`, with gaps for
     velocities; the split impulse of Catto's and Bullet's solvers), so an overlap wedged in a
     pile is undone by moving the pile around it, not traded for a new one each step. Up to
-    ``rounds`` rounds of at most ``iterations`` each, each from the gaps anew (a circle moved
-    sideways along a neighbour ends a little into it). The energy this changes (``-m g.dx``) goes to ``ledger[2]``, the
-    deepest overlap to ``ledger[4]``."""
+    ``rounds`` rounds of at most ``first`` and ``then`` iterations each (:func:`_qp`), each from
+    the gaps anew (a circle moved sideways along a neighbour ends a little into it). The energy
+    this changes (``-m g.dx``) goes to ``ledger[2]``, the deepest overlap to ``ledger[4]``."""
     n = pos.shape[0]
     gaps = np.empty(count)
     for _ in range(rounds):
@@ -812,7 +886,7 @@ def _push_apart(
             c += 1
         shift = np.zeros((n, 3))
         scratch = np.zeros(STATUS_SIZE, np.int64)
-        _mprgp(ca, cb, cf, c, shift, weight, n, iterations, scratch)
+        _qp(ca, cb, cf, c, shift, weight, n, first, then, scratch)
         for i in range(n):
             if weight[i] > 0.0:
                 for k in range(3):
@@ -1096,7 +1170,7 @@ def run_contact_steps(
                 left = dt - t
         pairs, pf, adj = lists[0], lists[1], lists[2]
         _push_apart(kind, pos, ext, ima, asleep, s_kind, s_a, s_b, pairs, count, gravity, slop, ledger,
-                    sk._int(PUSH_ROUNDS), sk._int(PUSH_ITERATIONS))  # fmt: skip
+                    sk._int(PUSH_ROUNDS), sk._int(PUSH_MPRGP), sk._int(PUSH_APGD))  # fmt: skip
         asleep_before = asleep.copy()
         rows_i, rows_f = _sleep(
             kind, pos, vel, ext, ima, s_kind, s_a, s_b, asleep, still, island, parent, memory, memory_lam,
@@ -1105,5 +1179,5 @@ def run_contact_steps(
         if (asleep != asleep_before).any():  # an island fell asleep: it is left as it lies, so
             # without the overlaps one step's push-apart left (what a pile at rest shows)
             _push_apart(kind, pos, ext, ima, asleep_before, s_kind, s_a, s_b, pairs, count, gravity, slop, ledger,
-                        sk._int(SETTLE_ROUNDS), sk._int(SETTLE_ITERATIONS))  # fmt: skip
+                        sk._int(SETTLE_ROUNDS), sk._int(SETTLE_MPRGP), sk._int(SETTLE_APGD))  # fmt: skip
     return lists[0], lists[1], lists[2], contacts, memory, memory_lam, rows_i, rows_f, events
