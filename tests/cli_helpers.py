@@ -222,14 +222,18 @@ def on_a_terminal(
         os.close(master)
 
 
+def cpu_seconds(pid: int) -> float:
+    """The CPU time the process ``pid`` has used so far, user and system (Linux's /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def wait_for_cpu_seconds(pid: int, seconds: float, timeout: float = 180.0) -> None:
     """Until the process has used ``seconds`` of CPU (imports and kernels loaded: stepping);
     bounded by ``timeout`` (wall clock, generous for a loaded machine) so a hang fails."""
-    ticks = os.sysconf("SC_CLK_TCK")
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
-        fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
-        if (int(fields[11]) + int(fields[12])) / ticks >= seconds:
+        if cpu_seconds(pid) >= seconds:
             return
         time.sleep(0.1)
     raise AssertionError(f"the process did not reach {seconds} s of CPU within {timeout} s")

@@ -7,11 +7,13 @@ import os
 import signal
 import subprocess
 import sys
+from pathlib import Path
 from typing import Any
 
 import pytest
 
 from collisionlab.cli.interrupts import remembered_interrupts
+from tests.cli_helpers import EXAMPLES, cpu_seconds, files_in, finish, read_until, wait_for_cpu_seconds
 
 
 def test_an_interrupt_that_python_drops_inside_a_gc_callback_is_still_seen() -> None:
@@ -88,3 +90,73 @@ def test_a_python_form_gas_interrupted_says_so_in_one_line() -> None:
         out, err = process.communicate()
     assert process.returncode == 130
     assert err.strip() == "collisionlab: interrupted" and out == ""
+
+
+# --- a signal while the kernels compile ----------------------------------------------------------
+_STATUS = {"SIGINT": 130, "SIGTERM": 143, "SIGHUP": 129}
+_LINE = {"SIGINT": "collisionlab: interrupted", "SIGTERM": "collisionlab: stopped by SIGTERM"}
+_LINE["SIGHUP"] = "collisionlab: stopped by SIGHUP"
+
+
+def _run_args(folder: Path) -> list[str]:
+    """A run that writes a file and a picture (neither may be left behind), whose kernels compile
+    on a cold cache: Newton's cradle in exact mode (the longest compile)."""
+    return [
+        "run", str(EXAMPLES / "newtons-cradle.toml"), "--steps", "200000",
+        "--output", str(folder / "out.txt"), "--plot", str(folder / "f.png"),
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM", "SIGHUP"])
+def test_a_signal_stops_the_command_inside_a_long_call_in_c(tmp_path: Path, name: str) -> None:
+    # One of LLVM's passes holds the compiling thread in C for seconds, where Python cannot run a
+    # signal's handler (a cold compile waited 89 s for its end). The stand-in here: the kernels'
+    # load replaced by a C call of many minutes that releases the GIL and never looks at signals.
+    code = (
+        "import hashlib, sys\n"
+        "from collisionlab.engine.world import World\n"
+        "def load_kernels(self):\n"
+        "    print('loading', file=sys.stderr, flush=True)\n"
+        "    hashlib.pbkdf2_hmac('sha256', b'x', b'y', 2**31 - 1)\n"
+        "    return 0.0\n"
+        "World.load_kernels = load_kernels\n"
+        "from collisionlab.cli import entry_point\n"
+        f"sys.argv = ['collisionlab', *{_run_args(tmp_path)!r}]\n"
+        "entry_point()\n"
+    )
+    with subprocess.Popen(
+        [sys.executable, "-c", code], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    ) as process:
+        assert process.stderr is not None
+        read_until(process.stderr.fileno(), b"loading", timeout=120)
+        # Inside the call once it has used a second of CPU (nothing else runs): the signal then
+        # lands in it, not in the bytecodes before it, where any handler would run at once.
+        wait_for_cpu_seconds(process.pid, cpu_seconds(process.pid) + 1.0)
+        process.send_signal(getattr(signal, name))
+        status, err = finish(process, timeout=30)  # unfixed: the call's end, many minutes away
+    assert status == _STATUS[name]
+    assert err.decode().rstrip().endswith(_LINE[name]) and b"Traceback" not in err
+    assert files_in(tmp_path) == []
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM", "SIGHUP"])
+def test_a_signal_during_a_cold_compile_stops_the_run_and_leaves_no_file(tmp_path: Path, name: str) -> None:
+    # Issue 28's escape 1: on a cold cache, SIGINT at 9 s stopped the run at 89 s, when the compile
+    # ended. An empty cache folder of its own makes this run compile (for a minute or more on 2
+    # cores); the signal comes once it says so, and the command must end with the signal's status
+    # and line long before the compile could have.
+    folder, cache = tmp_path / "out", tmp_path / "cache"
+    folder.mkdir()
+    cache.mkdir()
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    command = [sys.executable, "-m", "collisionlab", *_run_args(folder)]
+    with subprocess.Popen(
+        command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env
+    ) as process:
+        assert process.stderr is not None
+        read_until(process.stderr.fileno(), b"compiling the engine's kernels", timeout=120)
+        process.send_signal(getattr(signal, name))
+        status, err = finish(process, timeout=30)
+    assert status == _STATUS[name]
+    assert err.decode().rstrip().endswith(_LINE[name]) and b"Traceback" not in err
+    assert files_in(folder) == []

@@ -291,6 +291,8 @@ def test_ctrl_c_while_the_answers_are_checked_exits_130(monkeypatch: pytest.Monk
     import collisionlab.cli.menu as menu
 
     class Interrupted:
+        compiled = False
+
         def __init__(self, scenario: object) -> None:
             pass
 

@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from collisionlab import text_kernels
 from collisionlab.demos import load_demo
 from collisionlab.errors import InvalidInputError
+from collisionlab.extras import MissingExtraError
 from collisionlab.record import CollisionEvent, EventBlock, RunRecord, json_numbers
 from collisionlab.vector import Vector3D
 from collisionlab.world import simulate
@@ -80,8 +81,12 @@ def test_an_unknown_table_is_refused(spheres: RunRecord) -> None:
 
 def test_without_pandas_the_error_says_how_to_get_it(spheres: RunRecord, monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas now raises ImportError
-    with pytest.raises(ImportError, match="needs pandas, which is not installed: pip install pandas"):
+    with pytest.raises(MissingExtraError) as missing:
         spheres.to_dataframe()
+    assert str(missing.value) == (
+        "pandas tables (RunRecord.to_dataframe) need the 'pandas' extra: pip install 'collisionlab[pandas]'"
+    )
+    assert isinstance(missing.value, ImportError)  # what a caller catching ImportError still sees
     assert isinstance(pd.DataFrame(), pd.DataFrame)  # the real module is untouched
 
 

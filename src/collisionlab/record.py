@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 
 from . import text_kernels
 from .built_sequence import BuiltSequence
+from .extras import require
 from .vector import Vector3D
 
 if TYPE_CHECKING:
@@ -544,7 +545,8 @@ class RunRecord:
         )
 
     def to_dataframe(self, table: Literal["frames", "events", "skipped"] = "frames") -> pandas.DataFrame:
-        """A table of the run as a pandas ``DataFrame`` (pandas is optional: ``pip install pandas``).
+        """A table of the run as a pandas ``DataFrame`` (pandas is optional: the ``pandas`` extra,
+        ``pip install 'collisionlab[pandas]'``; without it, :class:`~collisionlab.extras.MissingExtraError`).
 
         ``"frames"``: one row per recorded step and body (long form; ``pivot`` gives one column
         per body): ``step, time, body, x, y, z, vx, vy, vz``. ``"events"``: one row per
@@ -553,12 +555,7 @@ class RunRecord:
         kinetic_energy_before, kinetic_energy_after``. ``"skipped"``: ``step, time, body_a,
         body_b, reason``.
         """
-        try:
-            import pandas as pd
-        except ImportError:
-            raise ImportError(
-                "RunRecord.to_dataframe needs pandas, which is not installed: pip install pandas"
-            ) from None
+        pd = require("pandas", "pandas", "pandas tables (RunRecord.to_dataframe)")
         if table == "frames":
             columns = ["step", "time", "body", "x", "y", "z", "vx", "vy", "vz"]
             rows: list[tuple[Any, ...]] = [

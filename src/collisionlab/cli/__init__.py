@@ -8,7 +8,9 @@ Exit status: 0 success, 1 end of input or other failure, 2 bad command-line usag
 from __future__ import annotations
 
 import argparse
+import contextlib
 import gc
+import os
 import sys
 from collections.abc import Sequence
 
@@ -17,7 +19,7 @@ from ..errors import CollisionLabError, InvalidInputError, OutOfRangeError, esca
 from ..scenario_file import ScenarioError
 from ..world import InitialOverlapError
 from . import compile_command, examples_command, gas_command, sweep_command
-from .interrupts import Stopped, stop_on_signals
+from .interrupts import Stopped, abandoned_work, stop_on_signals
 from .run_command import add_run_parsers
 from .streams import Streams
 
@@ -146,7 +148,15 @@ def entry_point() -> None:
     """The console script (and ``python -m collisionlab``): :func:`main`, then exit with its
     status. Python's last garbage collection, at exit, walks every object still alive, and
     numba's compiler leaves very many (a quarter of a second, bench/README.md); the process
-    frees them all anyway, so they are frozen out of that collection first."""
+    frees them all anyway, so they are frozen out of that collection first.
+
+    A signal that stopped a compile left it running in its thread (:func:`.interrupts.interruptible`):
+    the process then ends at once, its streams flushed, rather than run Python's exit beside it."""
     status = main()
+    if abandoned_work():
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(OSError, ValueError):
+                stream.flush()
+        os._exit(status)
     gc.freeze()
     sys.exit(status)

@@ -11,11 +11,15 @@ however fast the world produces events.
 Failure: whatever the writer raises (a full disk) is raised again in the caller's thread at its
 next call, or at :meth:`~BackgroundObserver.end`; the calls after it are dropped. On leaving
 the ``with`` block early (an error of the run, Ctrl-C), the waiting calls are dropped and the
-thread is joined before the output file is removed.
+thread is given :data:`LEAVE_WAIT` seconds to end its current call before the output file is
+removed. A call that takes longer is left to end alone (its output is thrown away with the file):
+on a machine's first run the writer's first block of many events compiles the text kernel
+(:mod:`collisionlab.text_kernels`, about 2 s), and Ctrl-C must not wait for that.
 """
 
 from __future__ import annotations
 
+import contextlib
 import queue
 import threading
 from collections.abc import Sequence
@@ -23,11 +27,15 @@ from types import TracebackType
 from typing import Any
 
 from ..record import CollisionEvent, Frame, RunObserver, RunRecord, SkippedContact
+from .interrupts import abandon
 
 __all__ = ["BackgroundObserver"]
 
 #: Calls that may wait for the writer's thread; the world waits when they are all taken.
 DEPTH = 2
+
+#: Seconds the caller, leaving early, waits for the writer to end its current call.
+LEAVE_WAIT = 0.5
 
 _STOP = None  # put last: the thread ends
 
@@ -114,6 +122,14 @@ class BackgroundObserver:
     def __exit__(
         self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
     ) -> None:
-        if kind is not None:
-            self._dropping = True  # the output is thrown away: no need to write the rest
-        self._finish()
+        if kind is None:
+            self._finish()
+            return
+        self._dropping = True  # the output is thrown away: no need to write the rest
+        with contextlib.suppress(queue.Empty):  # nor to wait for room behind the calls waiting
+            while True:
+                self._calls.get_nowait()
+        self._calls.put_nowait(_STOP)  # room now: only this thread puts
+        self._thread.join(LEAVE_WAIT)
+        if self._thread.is_alive():
+            abandon(self._thread)

@@ -5,11 +5,13 @@ stderr, one line per kind of kernels; then the time it all took on stdout."""
 from __future__ import annotations
 
 import argparse
+import functools
 import io
 import time
 from typing import Any
 
 from ..engine.ahead import KERNEL_KINDS, load_kernels
+from .interrupts import interruptible
 from .streams import Streams
 
 __all__ = ["add_parser"]
@@ -52,12 +54,13 @@ def _compile(args: argparse.Namespace, streams: Streams) -> int:
     steps = [*KERNEL_KINDS, "text"]
     for number, kind in enumerate(steps, 1):
         streams.err(f"[{number}/{len(steps)}] {kind}: {_SERVES.get(kind, 'the output writers')}...")
+        # Each in a thread of its own: a signal stops the command at once, even inside LLVM's calls.
         if kind == "text":
             began = time.perf_counter()
-            _text_kernel()
+            interruptible(_text_kernel)
             seconds = time.perf_counter() - began
         else:
-            seconds = load_kernels(kind)
+            seconds = interruptible(functools.partial(load_kernels, kind))
         streams.err(f"[{number}/{len(steps)}] {kind}: {seconds:.1f} s")
     streams.out(f"compiled every kernel in {time.perf_counter() - started:.1f} s")
     return 0

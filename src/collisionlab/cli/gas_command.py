@@ -20,7 +20,7 @@ from ..engine.world import World
 from ..errors import InvalidInputError, OutOfRangeError
 from ..particles import BACKENDS, gas_scenario
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
-from .interrupts import between_chunks, deferred_interrupts, interrupts_for
+from .interrupts import between_chunks, deferred_interrupts, interruptible, interrupts_for
 from .progress import ProgressBar
 from .streams import Streams
 
@@ -204,7 +204,8 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
             event_format(args.events)
         # The loop loaded (or compiled, saying so) and timed apart, then the start checked,
         # before any file is opened.
-        compile_seconds = load_kernels("event-driven", streams.err if notes else None)
+        # (In a thread of its own: a signal stops the command at once, even inside LLVM's calls.)
+        compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
         world = World(gas.scenario(), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
         return _bad_value(streams, err)
@@ -266,7 +267,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         return 1
     if restitution > 1.0:
         streams.err(f"warning: restitution {restitution:g} > 1: every collision adds kinetic energy")
-    compile_seconds = world.load_kernels()  # before the clock: compiling is not stepping
+    compile_seconds = interruptible(world.load_kernels)  # before the clock: compiling is not stepping
     if notes and not world.compiled:  # a first user may not know how much slower it is
         streams.err(f"{_PROG}: stepping with the kernels' Python form: far slower than numba (Ctrl-C stops it)")
     energy_start = world.kinetic_energy()

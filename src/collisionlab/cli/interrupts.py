@@ -1,20 +1,28 @@
 """Signals: SIGTERM and SIGHUP are handled as Ctrl-C (files written atomically are cleaned up,
 one line, exit status 128 + the signal's number), and compiled loops that Python cannot
-interrupt are stepped in short chunks with the interrupt checked between them. A signal the
-program was started ignoring (``nohup``, a background job) stays ignored."""
+interrupt are stepped in short chunks with the interrupt checked between them. A compile
+(numba's, whose LLVM passes run for seconds in C, where Python cannot run a signal's handler)
+runs in a thread of its own while the main thread waits ready for a signal
+(:func:`interruptible`). A signal the program was started ignoring (``nohup``, a background job)
+stays ignored."""
 
 from __future__ import annotations
 
 import contextlib
 import signal
+import threading
 from collections.abc import Callable, Iterator
 from types import FrameType
+from typing import TypeVar
 
 __all__ = [
     "Pending",
     "Stopped",
+    "abandon",
+    "abandoned_work",
     "between_chunks",
     "deferred_interrupts",
+    "interruptible",
     "interrupts_for",
     "remembered_interrupts",
     "stop_on_signals",
@@ -22,6 +30,14 @@ __all__ = [
 
 #: The signals handled as Ctrl-C, where the platform has them.
 _SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+#: Seconds between two looks for a signal while :func:`interruptible` waits for its thread.
+WAIT_SLICE = 0.1
+
+_T = TypeVar("_T")
+
+#: Threads :func:`interruptible` left running when a signal stopped the wait for them.
+_abandoned: list[threading.Thread] = []
 
 
 class Stopped(KeyboardInterrupt):
@@ -130,3 +146,60 @@ def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None
             progress(done, total)
 
     return between
+
+
+def interruptible(work: Callable[[], _T]) -> _T:
+    """``work()``, run in a thread of its own while this one waits for it, looking for a signal
+    every :data:`WAIT_SLICE` seconds; its result, or what it raised, raised here.
+
+    For what compiles (a world's kernels loaded ahead: numba compiles them on a machine's first
+    run): Python runs a signal's handler in the main thread only, between two of its bytecodes,
+    and one call of LLVM's passes holds the thread in C for seconds (up to 3.1 s measured in a
+    cold compile on 2 busy cores), so Ctrl-C, SIGTERM or SIGHUP waited for it. Here the main
+    thread only waits, and the handler's exception (KeyboardInterrupt, :class:`Stopped`) is
+    raised at once and leaves the compile behind, unfinished (a daemon thread: numba writes its
+    cache only for a finished compile; the entry point then ends the process without waiting,
+    :func:`abandoned_work`). Outside the main thread, ``work()`` is simply called.
+
+    >>> interruptible(lambda: 6 * 7)
+    42
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return work()
+    result: list[_T] = []
+    failure: list[BaseException] = []
+    done = threading.Event()
+
+    def run() -> None:
+        try:
+            result.append(work())
+        except BaseException as error:  # raised again in the waiting thread
+            failure.append(error)
+        finally:
+            done.set()
+
+    thread = threading.Thread(target=run, name="collisionlab-compile", daemon=True)
+    thread.start()
+    try:
+        while not done.wait(WAIT_SLICE):  # a signal's handler runs, and may raise, between two waits
+            pass
+    except BaseException:
+        abandon(thread)
+        raise
+    thread.join()
+    if failure:
+        raise failure[0]
+    return result[0]
+
+
+def abandon(thread: threading.Thread) -> None:
+    """Note ``thread`` (a daemon) as work left running after a signal or an error stopped the
+    command: :func:`abandoned_work` then says so."""
+    _abandoned[:] = [*(t for t in _abandoned if t.is_alive()), thread]
+
+
+def abandoned_work() -> bool:
+    """Whether work that :func:`interruptible` left behind is still running: the process should
+    then end without Python's usual exit, which would run finalizers beside it (numba's, LLVM's
+    objects freed while their compile still uses them)."""
+    return any(thread.is_alive() for thread in _abandoned)

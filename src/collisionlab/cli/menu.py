@@ -17,6 +17,7 @@ from ..shapes import Plane
 from ..validate import finite_number, positive
 from ..vector import Vector3D
 from ..world import World
+from .interrupts import between_chunks, interruptible, interrupts_for
 from .progress import ProgressBar
 from .render import render_table
 from .streams import Streams
@@ -392,10 +393,11 @@ def run_menu(streams: Streams) -> int:
                 if q.key in ("dt", "steps", "mode"):
                     answers[q.key] = dialogue.question(q, answers)
     world = World(scenario)
-    world.load_kernels()  # before the bar's clock starts: compiling is not running
+    interruptible(world.load_kernels)  # before the bar's clock starts: compiling is not running
     bar = ProgressBar(streams, scenario.title)
     try:
-        record = world.run(progress=bar)
+        with interrupts_for(world.compiled) as pending:  # compiled: looked for between chunks
+            record = world.run(progress=between_chunks(pending, bar))
     finally:
         bar.close()
     streams.stdout.write(render_table(record))

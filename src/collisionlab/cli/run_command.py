@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator
@@ -22,7 +23,7 @@ from ..scenario_file import load_scenario
 from ..validate import whole_number
 from ..world import World
 from .background import BackgroundObserver
-from .interrupts import between_chunks, deferred_interrupts
+from .interrupts import between_chunks, interruptible, interrupts_for
 from .progress import ProgressBar
 from .render import writer_for
 from .streams import Streams
@@ -218,8 +219,10 @@ def execute(
                 spool.write(",\n" if args.format == "json" else "\n")
             writer = writer_for(args.format, spool, args.every, args.quiet, args.explain, streams.err)
             try:
-                world = World(scenario, params, notify=streams.err)
-                world.load_kernels()  # before the progress bar's clock starts: compiling is not running
+                # The kernels loaded (or compiled: a machine's first run) before the progress bar's
+                # clock starts, since compiling is not running, and in a thread of their own, so
+                # that a signal stops the command at once even inside one of LLVM's long calls.
+                world = interruptible(functools.partial(_loaded_world, scenario, params, streams))
             except OutOfRangeError as error:
                 raise error.within(sources[index]) if sources else error from None
             bar = ProgressBar(streams, scenario.title, quiet=args.quiet)
@@ -229,9 +232,10 @@ def execute(
                     observer: RunObserver = writer
                     if world.compiled:  # its kernels run without the GIL: the writer works beside them
                         observer = stack.enter_context(BackgroundObserver(writer))
-                    # A signal is looked at between chunks of steps: raised inside a compiled call it
-                    # would surface as "SystemError: CPUDispatcher returned a result with an exception set".
-                    pending = stack.enter_context(deferred_interrupts())
+                    # Compiled, a signal is looked at between chunks of steps: raised inside a compiled
+                    # call it would surface as "SystemError: CPUDispatcher returned a result with an
+                    # exception set". The Python form raises it at once: one of its steps may take seconds.
+                    pending = stack.enter_context(interrupts_for(world.compiled))
                     progress = between_chunks(pending, bar)
                     record = world.run(every=args.every, progress=progress, observer=observer, keep=pictures)
             except OutOfRangeError as error:
@@ -250,6 +254,14 @@ def execute(
     if args.output is not None:
         streams.err(f"wrote {args.output}")
     return 0
+
+
+def _loaded_world(scenario: Scenario, params: WorldParams, streams: Streams) -> World:
+    """The world of ``scenario``, its compiled kernels loaded (an event-driven world loads its
+    loop as it is made)."""
+    world = World(scenario, params, notify=streams.err)
+    world.load_kernels()
+    return world
 
 
 @contextlib.contextmanager
