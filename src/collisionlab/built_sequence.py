@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import bisect
 from collections.abc import Iterator, Sequence
 from typing import TypeVar, overload
 
-__all__ = ["BuiltSequence"]
+__all__ = ["BuiltSequence", "SequenceChain"]
 
 T = TypeVar("T")
 
@@ -45,3 +46,49 @@ class BuiltSequence(Sequence[T]):
 
     def __iter__(self) -> Iterator[T]:
         return (self._item(i) for i in range(len(self)))
+
+
+class SequenceChain(BuiltSequence[T]):
+    """The items of several sequences one after another, the sequences kept as they are (a run's
+    events arrive as arrays, a block per chunk of steps; an item is built only when read).
+    ``extend`` adds a sequence, ``append`` one item; equal to any sequence of equal items.
+
+    >>> chain = SequenceChain([1, 2])
+    >>> chain.extend(range(3, 5)); chain.append(5)
+    >>> len(chain), chain[2], chain[-1], chain[1:4], chain == [1, 2, 3, 4, 5], chain == [1]
+    (5, 3, 5, [2, 3, 4], True, False)
+    """
+
+    def __init__(self, items: Sequence[T] = ()) -> None:
+        self._parts: list[Sequence[T]] = []
+        self._ends: list[int] = []  # the running total of items after each part
+        self.extend(items)
+
+    def extend(self, items: Sequence[T]) -> None:
+        if len(items):
+            self._parts.append(items)
+            self._ends.append(len(self) + len(items))
+
+    def append(self, item: T) -> None:
+        self.extend([item])
+
+    def __len__(self) -> int:
+        return self._ends[-1] if self._ends else 0
+
+    def _item(self, i: int) -> T:
+        part = bisect.bisect_right(self._ends, i)
+        return self._parts[part][i - (self._ends[part - 1] if part else 0)]
+
+    def __iter__(self) -> Iterator[T]:
+        for part in self._parts:
+            yield from part
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Sequence) or isinstance(other, str) or len(other) != len(self):
+            return False
+        return all(x == y for x, y in zip(self, other, strict=True))
+
+    __hash__ = None  # type: ignore[assignment]  # mutable, like a list
+
+    def __repr__(self) -> str:
+        return f"SequenceChain({list(self)!r})" if len(self) <= 10 else f"<SequenceChain of {len(self)} items>"

@@ -18,7 +18,7 @@ import orjson
 from numpy.typing import NDArray
 
 from . import text_kernels
-from .built_sequence import BuiltSequence
+from .built_sequence import BuiltSequence, SequenceChain
 from .extras import require
 from .vector import Vector3D
 
@@ -513,7 +513,9 @@ class RunRecord:
     gravity: Vector3D
     dims: int = 3
     frames: list[Frame] = field(default_factory=list)
-    events: list[CollisionEvent] = field(default_factory=list)
+    #: The collisions, earliest first: a list, or (from a world) blocks of arrays whose events are
+    #: built only when read, so a pile's millions of impacts cost no Python objects unless looked at.
+    events: Sequence[CollisionEvent] = field(default_factory=SequenceChain)
     skipped: list[SkippedContact] = field(default_factory=list)
     ledger: Ledger = field(default_factory=Ledger)
     warnings: list[str] = field(default_factory=list)

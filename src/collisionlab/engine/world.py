@@ -30,10 +30,11 @@ from typing import Any
 import numpy as np
 
 from .. import limits
+from ..built_sequence import SequenceChain
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..numba_cache import compile_lock, gc_paused
-from ..record import EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
+from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
 from . import contact_kernels, exact_kernels, step_kernels
 from .contact_stepper import ContactStepper
@@ -104,6 +105,7 @@ class World:
         #: Where :meth:`run` sends what happens, and whether the record keeps it too.
         self._observer: RunObserver | None = None
         self._keep = True
+        self._events: SequenceChain[CollisionEvent] = SequenceChain()  # the record's, a block per chunk
         self.record = RunRecord(
             title=scenario.title,
             mode=settings.mode,
@@ -114,6 +116,7 @@ class World:
             dims=scenario.dims,
             scenario=scenario,
             contacts=settings.contacts,
+            events=self._events,
         )
         ledger = self.record.ledger
         ledger.kinetic_start = ledger.kinetic_end = self.kinetic_energy()
@@ -474,7 +477,7 @@ class World:
         self._stepper.release_events()
         self.record.collision_count += len(block)
         if self._keep:
-            self.record.events.extend(block)
+            self._events.extend(block)
             self.record.skipped.extend(skipped)
         if self._observer is not None:
             self._observer.events(block, skipped, self.step_index)
