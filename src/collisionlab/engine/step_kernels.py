@@ -1847,16 +1847,27 @@ def _clamp_to_sides(
                 ledger[2] -= (gravity[0] * ux + gravity[1] * uy + gravity[2] * uz) * push / ima[b]
 
 
-def _no_energy_from_corrections(pos: Any, vel: Any, ima: Any, start: Any, gravity: Any, ledger: Any) -> None:
+def _no_energy_from_corrections(
+    pos: Any, vel: Any, ima: Any, start: Any, held: Any, driven: Any, gravity: Any, ledger: Any
+) -> None:
     """Positional corrections (push-apart, the clamps) move bodies without a force that does work.
     One that leaves a body of finite mass higher (against gravity) than it was at the start of
-    the step has added that potential energy to the world, and in a pile such lifts, falling
-    back, keep it boiling. So that energy comes out of the body's kinetic energy (its velocity
-    scaled down, its direction kept), as far as it has any, and is booked with the corrections
-    (``ledger[2]``). A body that ends no higher than it started (one pushed back out of the
-    overlap its own fall made) keeps its velocity."""
+    the step (``start``) has added that potential energy to the world, and in a pile such lifts,
+    falling back, keep it boiling. So the rise the corrections made (from ``held``, the positions
+    they started from), as far as the body ends above its start, comes out of its kinetic energy
+    (its velocity scaled down, its direction kept), as far as it has any, and is booked with the
+    corrections (``ledger[2]``). A body the corrections did not lift, or only back to where it
+    started (out of the overlap its own fall made), keeps its velocity; so does one in contact
+    with a kinematic body (``driven[i] == 1``), which may do work on it (a paddle)."""
     for i in range(pos.shape[0]):
-        if ima[i] == 0.0:
+        if ima[i] == 0.0 or driven[i] == 1:
+            continue
+        lift = -(
+            gravity[0] * (pos[i, 0] - held[i, 0])
+            + gravity[1] * (pos[i, 1] - held[i, 1])
+            + gravity[2] * (pos[i, 2] - held[i, 2])
+        )
+        if lift <= 0.0:
             continue
         rise = -(
             gravity[0] * (pos[i, 0] - start[i, 0])
@@ -1868,7 +1879,7 @@ def _no_energy_from_corrections(pos: Any, vel: Any, ima: Any, start: Any, gravit
         kinetic = 0.5 * (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]) / ima[i]
         if kinetic == 0.0:
             continue
-        taken = min(rise / ima[i], kinetic)
+        taken = min(min(lift, rise) / ima[i], kinetic)
         scale = math.sqrt((kinetic - taken) / kinetic)
         vel[i, 0] = vel[i, 0] * scale
         vel[i, 1] = vel[i, 1] * scale
@@ -1948,6 +1959,8 @@ def run_steps(
     lifts = gravity[0] != 0.0 or gravity[1] != 0.0 or gravity[2] != 0.0
     start = np.zeros((n if lifts else 0, 3))
     start_sorted = np.zeros((n if lifts else 0, 3))
+    held = np.zeros((n if lifts else 0, 3))
+    driven = np.zeros(n if lifts else 0, np.int8)
     for step in range(first_step, first_step + steps):
         time = (step + 1) * dt  # the time at the end of this step, when its contacts are resolved
         lines = _sides(pos, s_kind, s_a, s_b, side)
@@ -2044,6 +2057,16 @@ def run_steps(
             if p + 1 >= passes and not (rest_speed > 0.0 and largest[0] > rest_speed):
                 break
         found = clock
+        if lifts:  # where the corrections start from, and who a kinematic body touches
+            for i in range(n):
+                driven[i] = 0
+                for k in range(3):
+                    held[i, k] = pos[i, k]
+            for c in range(count):
+                if oa[c] >= 0 and ima[oa[c]] == 0.0:
+                    driven[ob[c]] = 1
+                if oa[c] >= 0 and ima[ob[c]] == 0.0:
+                    driven[oa[c]] = 1
         resolution_order = np.arange(od.shape[0])
         for p in range(passes):
             moves = _push_sweep(
@@ -2076,7 +2099,7 @@ def run_steps(
         if lines:
             _clamp_to_sides(kind, pos, ext, ima, s_kind, s_a, s_b, side, oa, ob, count, gravity, slop, ledger)
         if lifts:
-            _no_energy_from_corrections(pos, vel, ima, start_sorted, gravity, ledger)
+            _no_energy_from_corrections(pos, vel, ima, start_sorted, held, driven, gravity, ledger)
         # The pairs now in contact: near this step and already touching, or newly hit.
         kept = 0
         if count > touch_keys.shape[0]:
