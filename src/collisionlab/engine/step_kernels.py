@@ -4,6 +4,9 @@ compiled by numba (:mod:`collisionlab.engine.compiled`) for large ones, the same
 One step, in this fixed order (the lab's part VI, for any number of bodies):
 
 1. **Integrate** with Forward Euler: ``x += v dt``, then ``v += g dt`` (bodies of finite mass).
+   A body whose centre this carries onto or across a line or plane it started the step on one
+   side of is put back on that side, ``slop`` into it (:func:`_uncross`): the contact found
+   next bounces it there, so nothing ends on the far side of a line or plane.
 2. **Broad phase**: a uniform grid of cells as wide as the bodies it holds (plus
    ``contact_margin``): all but the widest one in ``LARGE_SHARE``, so a few large boxes leave the
    cells small. Bodies are sorted into it by a counting sort and stored in cell order; each cell
@@ -26,21 +29,28 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    (sequential impulses): ``v_n = (v_b - v_a) . n``; nothing if ``v_n >= 0``; else
    ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, ``v_a -= (j/m_a) n``,
    ``v_b += (j/m_b) n`` (lab eqs. 12, 15, 24). Swept again while a sweep applies one, at most
-   ``passes`` times; a sweep after the first looks again only at the contacts one of whose
-   bodies' velocity changed since they were last looked at (the others would give the same
-   result: nothing). A pair gets an impulse when it touches or overlaps, or, if it was already in
-   contact, when it is within ``solver_margin`` (so a resting stack stays supported). An impulse
-   on a pair that was not already in contact is a collision event, unless it rests on a support
-   that does not fall (a static or a kinematic body): an approach no faster than
-   ``rest_speed + |g . n| dt`` (what gravity alone adds in one step) is a body pressed onto its
-   support, and gets no event; and e = 0 below ``rest_speed + 2 |g . n| dt / e^2``,
-   where the bounce would not rise above the depth one step of approach makes. So a ball on a
-   floor or an incline stays on it and slides without hops or events, and a dropped ball comes
-   to rest after a few bounces instead of hopping forever.
+   ``passes`` times (under gravity up to ``settle_passes`` while a sweep still changes some
+   speed by more than ``rest_speed``, so a stack settles); a sweep after the first looks again
+   only at the contacts one of whose bodies' velocity changed since they were last looked at
+   (the others would give the same result: nothing). A pair gets an impulse when it touches or
+   overlaps, or, if it was already in contact, when it is within ``solver_margin`` (so a
+   resting stack stays supported). An impulse on a pair that was not already in contact is a
+   collision event, unless it rests on a support that does not fall (a static or a kinematic
+   body): an approach no faster than ``rest_speed + |g . n| dt`` (what gravity alone adds in
+   one step) is a body pressed onto its support, and gets no event; and e = 0 below
+   ``rest_speed + 2 |g . n| dt / e^2``, where the bounce would not rise above the depth one step
+   of approach makes (the same for two bodies already touching: one holds the other up, as in
+   a stack). So a ball on a floor or an incline stays on it and slides without hops or events,
+   a stack does not bounce inside, and a dropped ball comes to rest after a few bounces instead
+   of hopping forever.
 6. **Push apart**, in the same order, from current positions: a pair still overlapping by ``d``
    moves apart to a gap of ``slop``, shared in inverse proportion to mass; swept the same way
    (after the first sweep only contacts one of whose bodies moved since they were last looked at).
-   Finally every body past a one-sided wall is put back inside it (walls are hard).
+   Finally every body past a one-sided wall is put back inside it (walls are hard), and every
+   body a push left overlapping a line or plane, on the side it is on, is put back clear of it
+   (:func:`_clamp_to_sides`). Under gravity, a body these corrections lifted above where it
+   started the step pays that potential energy from its kinetic energy
+   (:func:`_no_energy_from_corrections`): push-apart makes no energy.
 
 Each body pair is oriented as the scenario orders pairs: A is the body given first (a ball-box
 pair is computed ball first and its normal negated, as the scalar API mirrors it); a static is
