@@ -4,6 +4,9 @@ compiled by numba (:mod:`collisionlab.engine.compiled`) for large ones, the same
 One step, in this fixed order (the lab's part VI, for any number of bodies):
 
 1. **Integrate** with Forward Euler: ``x += v dt``, then ``v += g dt`` (bodies of finite mass).
+   A body whose centre this carries onto or across a line or plane it started the step on one
+   side of is put back on that side, ``slop`` into it (:func:`_uncross`): the contact found
+   next bounces it there, so nothing ends on the far side of a line or plane.
 2. **Broad phase**: a uniform grid of cells as wide as the bodies it holds (plus
    ``contact_margin``): all but the widest one in ``LARGE_SHARE``, so a few large boxes leave the
    cells small. Bodies are sorted into it by a counting sort and stored in cell order; each cell
@@ -26,21 +29,28 @@ One step, in this fixed order (the lab's part VI, for any number of bodies):
    (sequential impulses): ``v_n = (v_b - v_a) . n``; nothing if ``v_n >= 0``; else
    ``j = -(1 + e) v_n / (1/m_a + 1/m_b)``, ``v_a -= (j/m_a) n``,
    ``v_b += (j/m_b) n`` (lab eqs. 12, 15, 24). Swept again while a sweep applies one, at most
-   ``passes`` times; a sweep after the first looks again only at the contacts one of whose
-   bodies' velocity changed since they were last looked at (the others would give the same
-   result: nothing). A pair gets an impulse when it touches or overlaps, or, if it was already in
-   contact, when it is within ``solver_margin`` (so a resting stack stays supported). An impulse
-   on a pair that was not already in contact is a collision event, unless it rests on a support
-   that does not fall (a static or a kinematic body): an approach no faster than
-   ``rest_speed + |g . n| dt`` (what gravity alone adds in one step) is a body pressed onto its
-   support, and gets no event; and e = 0 below ``rest_speed + 2 |g . n| dt / e^2``,
-   where the bounce would not rise above the depth one step of approach makes. So a ball on a
-   floor or an incline stays on it and slides without hops or events, and a dropped ball comes
-   to rest after a few bounces instead of hopping forever.
+   ``passes`` times (under gravity up to ``settle_passes`` while a sweep still changes some
+   speed by more than ``rest_speed``, so a stack settles); a sweep after the first looks again
+   only at the contacts one of whose bodies' velocity changed since they were last looked at
+   (the others would give the same result: nothing). A pair gets an impulse when it touches or
+   overlaps, or, if it was already in contact, when it is within ``solver_margin`` (so a
+   resting stack stays supported). An impulse on a pair that was not already in contact is a
+   collision event, unless it rests on a support that does not fall (a static or a kinematic
+   body): an approach no faster than ``rest_speed + |g . n| dt`` (what gravity alone adds in
+   one step) is a body pressed onto its support, and gets no event; and e = 0 below
+   ``rest_speed + 2 |g . n| dt / e^2``, where the bounce would not rise above the depth one step
+   of approach makes (the same for two bodies already touching: one holds the other up, as in
+   a stack). So a ball on a floor or an incline stays on it and slides without hops or events,
+   a stack does not bounce inside, and a dropped ball comes to rest after a few bounces instead
+   of hopping forever.
 6. **Push apart**, in the same order, from current positions: a pair still overlapping by ``d``
    moves apart to a gap of ``slop``, shared in inverse proportion to mass; swept the same way
    (after the first sweep only contacts one of whose bodies moved since they were last looked at).
-   Finally every body past a one-sided wall is put back inside it (walls are hard).
+   Finally every body past a one-sided wall is put back inside it (walls are hard), and every
+   body a push left overlapping a line or plane, on the side it is on, is put back clear of it
+   (:func:`_clamp_to_sides`). Under gravity, a body these corrections lifted above where it
+   started the step pays that potential energy from its kinetic energy
+   (:func:`_no_energy_from_corrections`): push-apart makes no energy.
 
 Each body pair is oriented as the scenario orders pairs: A is the body given first (a ball-box
 pair is computed ball first and its normal negated, as the scalar API mirrors it); a static is
@@ -1375,12 +1385,14 @@ def _impulses(
     events: Any,
     event_count: Any,
     event_of: Any,
+    largest: Any,
     ledger: Any,
 ) -> Any:
     """One pass of impulses over the contacts, stored in the order they are resolved, each along
     its normal ``cn`` (found with the contacts: positions do not change while impulses are
     applied); returns the event buffer (grown if it had to be). ``event_count[1]`` counts the
-    impulses this pass applied; ``event_of[k]`` gets the contact of the pass's k-th event.
+    impulses this pass applied; ``event_of[k]`` gets the contact of the pass's k-th event;
+    ``largest[0]`` is raised to the largest change of a body's speed an impulse makes.
 
     After the first pass a contact is looked at again only if the velocity of one of its bodies
     changed since it was last looked at: ``changed[body]`` is the tick of the body's last impulse,
@@ -1433,8 +1445,11 @@ def _impulses(
         # if it would rise above the depth one step of approach makes, e^2 v^2 / (2 g_n) >= v dt,
         # else e = 0: shorter hops are numerical (Forward Euler and push-apart feed them).
         # Only a support that does not fall (a static, a kinematic body) holds a body up: two free
-        # bodies fall together, and gravity adds nothing to their approach.
-        supported = a < 0 or ima[a] == 0.0 or ima[b] == 0.0
+        # bodies fall together, and gravity adds nothing to their approach. Unless they already
+        # touch: then one is held up by what is under it (a stack, a pile), and the approach the
+        # passes leave between them is at most what gravity gives in one step; bouncing it would
+        # make a resting stack jitter.
+        supported = a < 0 or ima[a] == 0.0 or ima[b] == 0.0 or touching[c] == 1
         g_dt = abs(gravity[0] * nx + gravity[1] * ny + gravity[2] * nz) * dt if supported else 0.0
         resting = rest_speed + g_dt
         squared = e_pair * e_pair
@@ -1448,6 +1463,7 @@ def _impulses(
         j = gk.impulse_magnitude(vn, inv_sum, e)
         ja = j * ima_a
         jb = j * ima[b]
+        largest[0] = max(largest[0], abs(ja), abs(jb))
         kinetic_before = 0.0
         kinetic_after = 0.0
         before[0] = vax
@@ -1720,6 +1736,167 @@ def _clamp_to_walls(
                     ledger[2] += change
 
 
+def _sides(pos: Any, s_kind: Any, s_a: Any, s_b: Any, side: Any) -> bool:
+    """``side[i, s]``: the side of line or plane ``s`` body ``i``'s centre is on, ``+1`` along its
+    normal, ``-1`` against it, ``0`` on it (and for the other statics). Returns whether there is a
+    line or plane at all."""
+    any_line = False
+    for s in range(s_kind.shape[0]):
+        if s_kind[s] == STATIC_BOUNDARY:
+            any_line = True
+    if not any_line:
+        return False
+    for i in range(pos.shape[0]):
+        for s in range(s_kind.shape[0]):
+            side[i, s] = 0.0
+            if s_kind[s] != STATIC_BOUNDARY:
+                continue
+            t = (
+                s_b[s, 0] * (pos[i, 0] - s_a[s, 0])
+                + s_b[s, 1] * (pos[i, 1] - s_a[s, 1])
+                + s_b[s, 2] * (pos[i, 2] - s_a[s, 2])
+            )
+            if t > 0.0:
+                side[i, s] = 1.0
+            elif t < 0.0:
+                side[i, s] = -1.0
+    return True
+
+
+def _reach(kind: Any, ext: Any, i: int, ux: float, uy: float, uz: float) -> float:
+    """How far body ``i`` reaches from its centre along the unit normal ``u``: a ball's radius, a
+    box's projected radius ``sum_k |u_k| e_k`` (Ericson 5.2.3)."""
+    if kind[i] <= BALL_3D:
+        return float(ext[i, 0])
+    return float(abs(ux) * ext[i, 0] + abs(uy) * ext[i, 1] + abs(uz) * ext[i, 2])
+
+
+def _uncross(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    ima: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    side: Any,
+    gravity: Any,
+    slop: float,
+    ledger: Any,
+) -> None:
+    """A body of finite mass whose centre Forward Euler carried onto or across a line or plane it
+    started the step on one side of (``side``, :func:`_sides`) is put back on that side, in contact:
+    overlapping it by ``slop``, so that the step's contacts find it and its impulse and push-apart
+    act as on any contact (a two-sided boundary would otherwise see it from the far side, and push
+    it on through). The move is a positional correction: its potential energy change goes to
+    ``ledger[2]``, the depth undone to ``ledger[4]``. A body that stays on its side is not moved."""
+    for i in range(pos.shape[0]):
+        if ima[i] == 0.0:
+            continue
+        for s in range(s_kind.shape[0]):
+            was = side[i, s]
+            if was == 0.0:
+                continue
+            ux = s_b[s, 0]
+            uy = s_b[s, 1]
+            uz = s_b[s, 2]
+            t = ux * (pos[i, 0] - s_a[s, 0]) + uy * (pos[i, 1] - s_a[s, 1]) + uz * (pos[i, 2] - s_a[s, 2])
+            if t * was > 0.0:
+                continue
+            reach = _reach(kind, ext, i, ux, uy, uz)
+            move = was * (reach - slop) - t
+            ledger[4] = max(ledger[4], reach - t * was)
+            pos[i, 0] = pos[i, 0] + ux * move
+            pos[i, 1] = pos[i, 1] + uy * move
+            pos[i, 2] = pos[i, 2] + uz * move
+            ledger[2] -= (gravity[0] * ux + gravity[1] * uy + gravity[2] * uz) * move / ima[i]
+
+
+def _clamp_to_sides(
+    kind: Any,
+    pos: Any,
+    ext: Any,
+    ima: Any,
+    s_kind: Any,
+    s_a: Any,
+    s_b: Any,
+    side: Any,
+    ca: Any,
+    cb: Any,
+    count: int,
+    gravity: Any,
+    slop: float,
+    ledger: Any,
+) -> None:
+    """Lines and planes are hard on the side a body is on (``side``, taken after
+    :func:`_uncross`), as walls are on their inside (:func:`_clamp_to_walls`): a body of finite
+    mass that the pushes of its neighbours left overlapping one, or past it, is put back a gap
+    ``slop`` clear of it on its own side (its potential energy change to ``ledger[2]``). Only
+    bodies in a contact can have been pushed."""
+    for c in range(count):
+        for end in range(2):
+            b = cb[c] if end == 0 else ca[c]
+            if b < 0 or ima[b] == 0.0:
+                continue
+            for s in range(s_kind.shape[0]):
+                was = side[b, s]
+                if was == 0.0:
+                    continue
+                ux = was * s_b[s, 0]
+                uy = was * s_b[s, 1]
+                uz = was * s_b[s, 2]
+                t = ux * (pos[b, 0] - s_a[s, 0]) + uy * (pos[b, 1] - s_a[s, 1]) + uz * (pos[b, 2] - s_a[s, 2])
+                gap = t - _reach(kind, ext, b, ux, uy, uz)
+                if gap >= 0.0:
+                    continue
+                ledger[4] = max(ledger[4], -gap)
+                push = slop - gap
+                pos[b, 0] = pos[b, 0] + ux * push
+                pos[b, 1] = pos[b, 1] + uy * push
+                pos[b, 2] = pos[b, 2] + uz * push
+                ledger[2] -= (gravity[0] * ux + gravity[1] * uy + gravity[2] * uz) * push / ima[b]
+
+
+def _no_energy_from_corrections(
+    pos: Any, vel: Any, ima: Any, start: Any, held: Any, driven: Any, gravity: Any, ledger: Any
+) -> None:
+    """Positional corrections (push-apart, the clamps) move bodies without a force that does work.
+    One that leaves a body of finite mass higher (against gravity) than it was at the start of
+    the step (``start``) has added that potential energy to the world, and in a pile such lifts,
+    falling back, keep it boiling. So the rise the corrections made (from ``held``, the positions
+    they started from), as far as the body ends above its start, comes out of its kinetic energy
+    (its velocity scaled down, its direction kept), as far as it has any, and is booked with the
+    corrections (``ledger[2]``). A body the corrections did not lift, or only back to where it
+    started (out of the overlap its own fall made), keeps its velocity; so does one in contact
+    with a kinematic body (``driven[i] == 1``), which may do work on it (a paddle)."""
+    for i in range(pos.shape[0]):
+        if ima[i] == 0.0 or driven[i] == 1:
+            continue
+        lift = -(
+            gravity[0] * (pos[i, 0] - held[i, 0])
+            + gravity[1] * (pos[i, 1] - held[i, 1])
+            + gravity[2] * (pos[i, 2] - held[i, 2])
+        )
+        if lift <= 0.0:
+            continue
+        rise = -(
+            gravity[0] * (pos[i, 0] - start[i, 0])
+            + gravity[1] * (pos[i, 1] - start[i, 1])
+            + gravity[2] * (pos[i, 2] - start[i, 2])
+        )
+        if rise <= 0.0:
+            continue
+        kinetic = 0.5 * (vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]) / ima[i]
+        if kinetic == 0.0:
+            continue
+        taken = min(min(lift, rise) / ima[i], kinetic)
+        scale = math.sqrt((kinetic - taken) / kinetic)
+        vel[i, 0] = vel[i, 0] * scale
+        vel[i, 1] = vel[i, 1] * scale
+        vel[i, 2] = vel[i, 2] * scale
+        ledger[2] -= taken
+
+
 # --- the loop -----------------------------------------------------------------------------------
 def run_steps(
     kind: Any,
@@ -1747,6 +1924,7 @@ def run_steps(
     contact_margin: float,
     rest_speed: float,
     passes: int,
+    settle_passes: int,
     first_step: int,
     steps: int,
     record: bool,
@@ -1783,10 +1961,26 @@ def run_steps(
     moved = np.full(n, -1, np.int64)
     clock = _int(0)
     degree = np.zeros(n, np.int64)  # _order_coupled's count of contacts per body
+    largest = np.zeros(1)  # the largest change of speed of a sweep of impulses (_impulses)
     every = np.arange(ca.shape[0])  # every contact's number
+    side = np.zeros((n, s_kind.shape[0]))  # each body's side of each line and plane (_sides)
+    # Under gravity, each body's position at the start of the step, in the order then and in the
+    # order of the grid (_no_energy_from_corrections).
+    lifts = gravity[0] != 0.0 or gravity[1] != 0.0 or gravity[2] != 0.0
+    start = np.zeros((n if lifts else 0, 3))
+    start_sorted = np.zeros((n if lifts else 0, 3))
+    held = np.zeros((n if lifts else 0, 3))
+    driven = np.zeros(n if lifts else 0, np.int8)
     for step in range(first_step, first_step + steps):
         time = (step + 1) * dt  # the time at the end of this step, when its contacts are resolved
+        lines = _sides(pos, s_kind, s_a, s_b, side)
+        if lifts:
+            for i in range(n):
+                for k in range(3):
+                    start[i, k] = pos[i, k]
         _integrate(pos, vel, ima, gravity, dt, ledger)
+        if lines:
+            _uncross(kind, pos, ext, ima, s_kind, s_a, s_b, side, gravity, slop, ledger)
         # Sort the state by cell (Ericson 7.1.3): the pair search then reads memory in sequence.
         h, buckets = _grid_plan(pos, ext, dims, width, width + contact_margin, max_cells, lo, shape)
         if buckets > 0 and hashed.shape[0] < buckets + 3:
@@ -1794,6 +1988,10 @@ def run_steps(
         starts = hashed if buckets > 0 else cell_start
         n_small = _bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
         _store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
+        if lines:
+            _sides(pos, s_kind, s_a, s_b, side)  # in the new order
+        if lifts:
+            _scatter_rows(start, start_sorted, dest)
         while True:  # listed again, into arrays twice as large, when they were too small
             count = _find_pairs(
                 kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts, stencil,
@@ -1821,8 +2019,9 @@ def run_steps(
         _mark_touching(touch_keys, touch_count[0], table, oa, ob, ids, n, count, touching)
         seen = np.full(count, _NEVER, np.int64)
         event_of = np.empty(count, np.int64)
-        for p in range(passes):
+        for p in range(max(passes, settle_passes)):
             event_count[1] = 0
+            largest[0] = 0.0
             first_event = event_count[0]
             events = _impulses(
                 kind,
@@ -1856,13 +2055,28 @@ def run_steps(
                 events,
                 event_count,
                 event_of,
+                largest,
                 ledger,
             )
             _events_in_order(events, first_event, event_count[0], event_of, order, pos, ca, cb, cd)
             clock += count
             if event_count[1] == 0:
                 break
+            # Past ``passes``, only while a sweep still changes some velocity by more than
+            # rest_speed (a world with gravity): a stack or pile then settles instead of sinking.
+            if p + 1 >= passes and not (rest_speed > 0.0 and largest[0] > rest_speed):
+                break
         found = clock
+        if lifts:  # where the corrections start from, and who a kinematic body touches
+            for i in range(n):
+                driven[i] = 0
+                for k in range(3):
+                    held[i, k] = pos[i, k]
+            for c in range(count):
+                if oa[c] >= 0 and ima[oa[c]] == 0.0:
+                    driven[ob[c]] = 1
+                if oa[c] >= 0 and ima[ob[c]] == 0.0:
+                    driven[oa[c]] = 1
         resolution_order = np.arange(od.shape[0])
         for p in range(passes):
             moves = _push_sweep(
@@ -1892,6 +2106,10 @@ def run_steps(
             if moves == 0:
                 break
         _clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, oa, ob, count, gravity, slop, ledger)
+        if lines:
+            _clamp_to_sides(kind, pos, ext, ima, s_kind, s_a, s_b, side, oa, ob, count, gravity, slop, ledger)
+        if lifts:
+            _no_energy_from_corrections(pos, vel, ima, start_sorted, held, driven, gravity, ledger)
         # The pairs now in contact: near this step and already touching, or newly hit.
         kept = 0
         if count > touch_keys.shape[0]:

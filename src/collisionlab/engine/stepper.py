@@ -138,6 +138,7 @@ class EulerStepper(EventRows):
             p.contact_margin,
             p.rest_speed if self.gravity.any() else 0.0,  # without gravity nothing rests
             p.passes,
+            p.settle_passes,
             first_step,
             steps,
             self.record_events,

@@ -294,7 +294,9 @@ class World:
 
     def _check_tunnelling(self) -> None:
         """Warn once when a body moves farther in one step than it takes to pass through
-        something (Forward Euler then misses the collision)."""
+        something (Forward Euler then misses the collision). Lines, planes and walls are not such
+        things: a body that crosses one is put back on its side (step_kernels' ``_uncross``), a
+        body past a wall back inside; fixed boxes and other bodies are."""
         if self._tunnel_warned:
             return
         b, dt = self._bodies, self.scenario.settings.dt
@@ -306,7 +308,7 @@ class World:
         if float(speeds.max()) * dt <= self._thinnest:
             return
         found: tuple[int, int, float, float] | None = None
-        if self._statics.m:
+        if np.any(self._statics.kind == step_kernels.STATIC_BOX):
             over = speeds * dt > thick
             if np.any(over):
                 i = int(np.argmax(over))
