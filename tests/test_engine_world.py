@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from collisionlab import AABB, Circle, Line, Sphere
+from collisionlab.body_block import BodyBlock
 from collisionlab.engine.params import WorldParams
 from collisionlab.model import Body, Obstacle, Scenario, Settings
 from collisionlab.record import RunRecord
@@ -413,3 +414,31 @@ def test_load_kernels_of_an_unknown_kind_names_it() -> None:
 
     with pytest.raises(InvalidInputError, match="kind"):
         load_kernels("fortran")
+
+
+# --- a pile in exact mode without the contact solver is named -----------------------------------
+def _pour(n: int, width: float, contacts: str) -> Scenario:
+    # n circles (r 0.5, 1 kg) on a lattice 1.2 diameters apart, dropped into a box of three lines
+    cols = int(width / 1.2) - 1
+    k = np.arange(n)
+    pos = np.c_[-width / 2 + 1.1 + 1.2 * (k % cols) + 0.05 * np.sin(1.7 * k), 2.0 + 1.2 * (k // cols)]
+    block = BodyBlock("ball", "circle", (0.5, 0.5, 0.5), pos, np.zeros_like(pos))
+    statics = (
+        Obstacle("floor", Line((0, 0), (1, 0))),
+        Obstacle("left", Line((-width / 2, 0), (0, 1))),
+        Obstacle("right", Line((width / 2, 0), (0, 1))),
+    )
+    settings = Settings(dt=0.01, steps=200, restitution=0.5, gravity=(0, -9.81, 0), mode="exact", contacts=contacts)
+    return Scenario(settings, (block,), statics)
+
+
+def test_a_pile_resolved_as_impacts_says_once_that_the_contact_solver_is_made_for_it() -> None:
+    # 30 circles settling in a 4 m box: resting contact as micro-impacts (about 250 impulses per
+    # body and step by step 150): one warning naming contacts = "solve".
+    world = World(_pour(30, 4.0, "events"), WorldParams(compiled=True))
+    world.step(200)
+    hints = [w for w in world.record.warnings if 'contacts = "solve"' in w]
+    assert len(hints) == 1
+    solved = World(_pour(30, 4.0, "solve"), WorldParams(compiled=True))
+    solved.step(200)
+    assert not any('contacts = "solve"' in w for w in solved.record.warnings)

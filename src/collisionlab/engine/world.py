@@ -50,6 +50,12 @@ __all__ = ["CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
 #: is looked at between calls: it stops a run within a second).
 CHUNK_SECONDS = 0.25
+#: Exact mode with ``contacts = "events"`` under gravity: more impulses than this per body and
+#: step, over at least ``PILE_HINT_STEPS`` steps, is resting contact resolved as a stream of
+#: micro-impacts (a pile: tens of thousands per body-step), and the world says once that
+#: ``contacts = "solve"`` is made for it. A gas, a cradle or a bouncing ball stays below 1.
+PILE_HINT_WORK = 100
+PILE_HINT_STEPS = 20
 
 
 def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
@@ -130,6 +136,7 @@ class World:
         #: Exact mode with its contacts solved (``contacts = "solve"``): the contact stepper.
         self._solving = self._exact and settings.contacts == "solve" and not scenario.event_driven
         self._impact_limit_warned = False
+        self._pile_hint = [0, 0]  # impulses and steps since the last look; [-1, 0] once said
         self._check_initial_overlap()
         self._stepper: EulerStepper | EventDrivenStepper | ContactStepper
         if self._solving:
@@ -408,8 +415,11 @@ class World:
         assert isinstance(stepper, (ExactStepper, ContactStepper))
         solving = isinstance(stepper, ContactStepper)
         limited = int(stepper.status[0])
+        work = int(stepper.status[1])
         python_form = contact_kernels if solving else exact_kernels
         self._advance(steps, self._compiled_kernels() if self._compiled else python_form)
+        if not solving:
+            self._look_for_a_pile(int(stepper.status[1]) - work, steps)
         if int(stepper.status[0]) > limited and not self._impact_limit_warned:
             self._impact_limit_warned = True
             where = "a half step before step" if solving else "step"
@@ -418,6 +428,26 @@ class World:
                 f"more than {most} impacts in {where} {self.step_index}: the rest of it was flown without them "
                 "(said once; later steps may do the same)"
             )
+
+    def _look_for_a_pile(self, work: int, steps: int) -> None:
+        """Say once when exact mode resolves lasting contact as micro-impacts (``PILE_HINT_WORK``)."""
+        hint = self._pile_hint
+        if hint[0] < 0 or not any(self.scenario.settings.gravity.as_tuple()):
+            return
+        hint[0] += work
+        hint[1] += steps
+        if hint[1] < PILE_HINT_STEPS:
+            return
+        n = self._bodies.n
+        if hint[0] > PILE_HINT_WORK * n * hint[1]:
+            self.record.warnings.append(
+                f"bodies resting on each other: {hint[0] / (n * hint[1]):.3g} impulses per body and step up to step "
+                f"{self.step_index}, resting contact resolved as a stream of impacts; contacts = \"solve\" (or "
+                "--contacts solve) solves it as contact and lets piles come to rest (README, 'Piles, pours and stacks')"
+            )
+            hint[0] = -1
+            return
+        hint[0] = hint[1] = 0
 
     def _step_euler(self, steps: int) -> None:
         self._check_tunnelling()
