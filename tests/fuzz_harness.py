@@ -348,7 +348,9 @@ _EXACT_GAS_OPTIONS = st.sampled_from(
      ["--gravity", "10"], ["--gravity", "1e300"], ["--boundary", "periodic"], ["--dim", "3"], ["--n", "0"],
      ["--n", "99999999999999999999"], ["--seed", "-1"], ["--seed", "7"], ["--format", "json"], ["--quiet"],
      ["--events", str(_FOLDER / "ev.csv")], ["--events", str(_FOLDER / "ev.jsonl")], ["--events", "ev.txt"],
-     ["--events", str(_FOLDER / "missing" / "e.csv")], ["--plot", str(_FOLDER / "g.png")]]
+     ["--events", str(_FOLDER / "missing" / "e.csv")], ["--plot", str(_FOLDER / "g.png")],
+     ["--trajectory", str(_FOLDER / "t.gsd")], ["--trajectory", str(_FOLDER / "t.xyz")], ["--trajectory", "t.dcd"],
+     ["--frames", "0"], ["--frames", "3"], ["--frames", "99999999999999999999"]]
 )  # fmt: skip
 _STRUCTURED = st.tuples(
     st.one_of(

@@ -1,5 +1,5 @@
-"""The light core: ``pip install collisionlab`` brings numpy, numba, matplotlib and orjson; sweeps
-and the interactive page are extras, never imported by the lab's own commands, and a command that
+"""The light core: ``pip install collisionlab`` brings numpy, numba, matplotlib and orjson; sweeps,
+the interactive page and GSD trajectories are extras, never imported by the lab's own commands, and a command that
 needs a missing one says which in one line (status 1, no traceback)."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ import pytest
 from collisionlab.extras import MissingExtraError, require
 from tests.cli_helpers import EXAMPLES, REPO
 
-EXTRA_MODULES = ("dask", "distributed", "pyarrow", "pandas", "plotly")
+EXTRA_MODULES = ("dask", "distributed", "pyarrow", "pandas", "plotly", "gsd")
 HEAD_ON = str(EXAMPLES / "head-on.toml")
 
 
@@ -30,7 +30,8 @@ def test_the_core_install_is_numpy_numba_matplotlib_and_orjson() -> None:
     assert any(dep.startswith("dask[distributed]") for dep in extras["sweep"])
     assert {"pyarrow", "pandas"} <= {dep.split(">")[0] for dep in extras["sweep"]}
     assert [dep.split(">")[0] for dep in extras["html"]] == ["plotly"]
-    assert extras["all"] == ["collisionlab[sweep,html]"]
+    assert [dep.split(">")[0] for dep in extras["trajectory"]] == ["gsd"]
+    assert extras["all"] == ["collisionlab[sweep,html,trajectory]"]
     assert "collisionlab[all]" in extras["dev"]  # the test setup installs every extra
 
 

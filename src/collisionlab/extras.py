@@ -2,7 +2,8 @@
 
 ``pip install collisionlab`` brings what the lab and the engines need (numpy, numba, matplotlib,
 orjson). Sweeps need the ``sweep`` extra (dask[distributed], pyarrow, pandas), the interactive
-page (``--html``) the ``html`` extra (plotly); ``collisionlab[all]`` installs both. A module of
+page (``--html``) the ``html`` extra (plotly), GSD trajectories (``gas --trajectory FILE.gsd``)
+the ``trajectory`` extra (gsd); ``collisionlab[all]`` installs the three. A module of
 an extra is imported only inside the function that needs it, through :func:`require`, so a
 missing one is one line naming the extra, not a traceback.
 """

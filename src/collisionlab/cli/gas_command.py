@@ -10,6 +10,7 @@ No physics here.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 from typing import Any
 
@@ -44,12 +45,16 @@ _FLAGS = {
     "time": "--time",
     "tc": "--tc",
     "events": "--events",
+    "trajectory": "--trajectory",
+    "frames": "--frames",
 }
 #: ``--mode``: the time-stepped world (default) or the event-driven, exact one.
 _MODES = ("stepped", "exact")
 #: ``--boundary``: ``collisionlab.edmd.observables.BOUNDARIES``, spelled out so that the command
 #: line starts without importing numba (tests/test_edmd_cli.py checks the two agree).
 BOUNDARIES = ("walls", "periodic")
+#: ``--frames`` when ``--trajectory`` is given alone: the start and every tenth of the run.
+_DEFAULT_FRAMES = 11
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -89,6 +94,20 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     )
     parser.add_argument("--plot", metavar="FILE.png", help="write the speed distribution against Maxwell-Boltzmann")
     parser.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
+    parser.add_argument(
+        "--trajectory",
+        metavar="FILE",
+        help="write frames to FILE.gsd (HOOMD's GSD; the 'trajectory' extra) or FILE.xyz (extended XYZ): "
+        "positions, velocities, diameters, types, the box, the step (exact mode: the frame's index)",
+    )
+    parser.add_argument(
+        "--frames",
+        type=int,
+        default=None,
+        metavar="K",
+        help=f"with --trajectory: K frames at the times T k/(K-1), k = 0..K-1, T the run's end (the start and the "
+        f"end; K = 1: the end only; default {_DEFAULT_FRAMES}); stepped mode: K-1 must divide --steps",
+    )
     exact = parser.add_argument_group("exact mode (--mode exact: event-driven, no time step)")
     exact.add_argument("--mode", choices=_MODES, default="stepped", help="stepped (default) or exact (event-driven)")
     exact.add_argument("--boundary", choices=BOUNDARIES, default="walls", help="walls (default) or periodic")
@@ -118,6 +137,7 @@ def _table(report: dict[str, Any]) -> list[str]:
     ]
     if report.get("plot"):
         lines.append(f"  plot             {report['plot']}")
+    lines += _trajectory_line(report)
     return lines
 
 
@@ -174,12 +194,56 @@ def _exact_table(report: dict[str, Any]) -> list[str]:
     ]
     if report.get("events_file"):
         lines.append(f"  events           {report['events_file']}")
+    lines += _trajectory_line(report)
     return lines
+
+
+def _trajectory_line(report: dict[str, Any]) -> list[str]:
+    if not report.get("trajectory"):
+        return []
+    return [f"  trajectory       {report['trajectory']} ({report['trajectory_frames']} frames)"]
+
+
+def _trajectory_checked(args: argparse.Namespace) -> int:
+    """``--frames`` (its default when only ``--trajectory`` is given), the file's format and
+    folder checked before the run (:class:`InvalidInputError`; a missing ``gsd``:
+    :class:`~collisionlab.extras.MissingExtraError`); 0 without ``--trajectory``."""
+    from ..atomic import check_target
+    from ..trajectory import check_frames, require_gsd, trajectory_format
+
+    if args.trajectory is None:
+        if args.frames is not None:
+            raise InvalidInputError("frames", "needs --trajectory FILE")
+        return 0
+    frames = check_frames(_DEFAULT_FRAMES if args.frames is None else args.frames)
+    kind = trajectory_format(args.trajectory)
+    check_target(args.trajectory, "trajectory")
+    if kind == "gsd":
+        require_gsd()
+    return frames
+
+
+def _trajectory(args: argparse.Namespace, sides: tuple[float, ...], periodic: bool, radius: float) -> Any:
+    """The frame writer of ``--trajectory`` (a context manager), or one that yields ``None``."""
+    from ..trajectory import trajectory_file
+
+    if args.trajectory is None:
+        return contextlib.nullcontext(None)
+    return trajectory_file(args.trajectory, sides, periodic, radius)
+
+
+def _cannot_write(streams: Streams, args: argparse.Namespace, err: OSError) -> int:
+    """One line naming the file (``--trajectory`` or ``--events``) that could not be written."""
+    trajectory = args.trajectory is not None and (args.events is None or err.filename == args.trajectory)
+    flag, path = ("--trajectory", args.trajectory) if trajectory else ("--events", args.events)
+    streams.err(f"{_PROG}: {flag}: cannot write {path}: {err.strerror or err}")
+    return 1
 
 
 def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.events_file import event_file, event_format
-    from ..edmd.observables import ExactGas, run_exact_gas
+    from ..edmd.observables import FRAMES, ExactGas, run_exact_gas
+    from ..trajectory import steps_for_frames
 
     notes = not args.quiet
     try:
@@ -202,11 +266,13 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
             )
         if args.events is not None:
             event_format(args.events)
+        frames = _trajectory_checked(args)
         # The loop loaded (or compiled, saying so) and timed apart, then the start checked,
         # before any file is opened.
         # (In a thread of its own: a signal stops the command at once, even inside LLVM's calls.)
         compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
-        world = World(gas.scenario(), notify=streams.err if notes else None, events=args.events is not None)
+        steps = steps_for_frames(FRAMES, frames) if frames else FRAMES  # a frame ends a step
+        world = World(gas.scenario(steps), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
@@ -218,17 +284,19 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     try:
         with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the loop
             between = between_chunks(pending, bar if notes else None)
+            side = world.scenario.box.sides if world.scenario.box is not None else ()
+            with contextlib.ExitStack() as files:
+                if args.events is not None:
+                    world.listen(files.enter_context(event_file(args.events)))
+                write = files.enter_context(_trajectory(args, side, gas.boundary == "periodic", gas.radius))
+                report = run_exact_gas(gas, world, between, frames=frames, write_frame=write)
             if args.events is not None:
-                with event_file(args.events) as sink:
-                    world.listen(sink)
-                    report = run_exact_gas(gas, world, between)
                 report["events_file"] = args.events
-            else:
-                report = run_exact_gas(gas, world, between)
+            if frames:
+                report["trajectory"], report["trajectory_frames"] = args.trajectory, frames
         report["compile_seconds"] = compile_seconds
     except OSError as err:
-        streams.err(f"{_PROG}: --events: cannot write {args.events}: {err.strerror or err}")
-        return 1
+        return _cannot_write(streams, args, err)
     finally:
         bar.close()
     if args.format == "json":
@@ -243,6 +311,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure."""
     if args.mode == "exact":
         return _run_exact(args, streams)
+    from ..trajectory import advance_in_frames, frame_steps
+
     notes = not args.quiet
     try:
         steps = limits.steps(args.steps, "steps")
@@ -252,6 +322,9 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
             from ..plotting import check_plot_path  # matplotlib loads only when a plot is asked for
 
             check_plot_path(args.plot)
+        frames = _trajectory_checked(args)
+        if frames:
+            frame_steps(steps, frames)  # K - 1 must divide the steps
         gas = gas_scenario(args.n, args.dim, args.seed, speeds=args.speeds)
         compiled = _kernels(args) != "python"  # auto: compiled (numba is installed with the package)
         world = World(
@@ -274,10 +347,20 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     bar = ProgressBar(streams, label="gas steps")
     try:
         with interrupts_for(world.compiled) as pending:  # compiled: looked for between chunks
-            seconds = world.advance(steps, between_chunks(pending, bar if notes else None))
+            between = between_chunks(pending, bar if notes else None)
+            if frames:
+                with _trajectory(args, (gas.side,) * gas.dim, False, gas.radius) as write:
+                    seconds = advance_in_frames(world, steps, frames, write, between)
+            else:
+                seconds = world.advance(steps, between)
     except OutOfRangeError as err:
         streams.err(f"{_PROG}: {err}")
         return 65
+    except OSError as err:
+        if not frames:
+            raise
+        streams.err(f"{_PROG}: --trajectory: cannot write {args.trajectory}: {err.strerror or err}")
+        return 1
     finally:
         bar.close()
     energy_end = world.kinetic_energy()
@@ -301,6 +384,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         "backend": "numba" if world.compiled else "python",
         "bytes_per_body": world.nbytes() / gas.n,
     }
+    if frames:
+        report["trajectory"], report["trajectory_frames"] = args.trajectory, frames
     if args.plot is not None:
         try:
             from ..plotting.speeds import save_speed_plot

@@ -31,6 +31,7 @@ from .world import EventDrivenWorld
 
 if TYPE_CHECKING:
     from ..engine.world import World
+    from ..trajectory import FrameWriter
 
 __all__ = ["BOUNDARIES", "DEFAULT_TC", "FRAMES", "ExactGas", "measure", "run_exact_gas"]
 
@@ -180,11 +181,18 @@ def measure(world: EventDrivenWorld, energy_start: float, seconds: float) -> dic
 
 
 def run_exact_gas(
-    gas: ExactGas, world: World | None = None, between: Callable[[int, int], None] | None = None
+    gas: ExactGas,
+    world: World | None = None,
+    between: Callable[[int, int], None] | None = None,
+    frames: int = 0,
+    write_frame: FrameWriter | None = None,
 ) -> dict[str, Any]:
     """Run ``gas`` on the engine's world (``world``, fresh from ``World(gas.scenario())``, or one
     made now) for ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``.
-    ``between(done, total)`` is called between chunks of steps (progress, Ctrl-C)."""
+    ``between(done, total)`` is called between chunks of steps (progress, Ctrl-C). With
+    ``write_frame``, ``frames`` frames at equal times are written through it
+    (:func:`collisionlab.trajectory.advance_in_frames`: ``frames - 1`` must divide the
+    scenario's steps, see :func:`~collisionlab.trajectory.steps_for_frames`)."""
     from ..engine.event_stepper import EventDrivenStepper
     from ..engine.world import World
 
@@ -195,7 +203,13 @@ def run_exact_gas(
         raise InvalidInputError("world", "must run the gas event by event (a world of gas.scenario())")
     balls = stepper.world
     energy_start = balls.kinetic_energy() + balls.potential_energy()
-    seconds = world.advance(world.scenario.settings.steps - world.step_index, between)
+    remaining = world.scenario.settings.steps - world.step_index
+    if write_frame is not None and frames > 0:
+        from ..trajectory import advance_in_frames
+
+        seconds = advance_in_frames(world, remaining, frames, write_frame, between)
+    else:
+        seconds = world.advance(remaining, between)
     report: dict[str, Any] = {
         "n": gas.n,
         "dim": gas.dim,
