@@ -30,6 +30,7 @@ from tests.cli_helpers import (
     example,
     files_in,
     finish,
+    heavy_options,
     on_a_terminal,
     read_until,
     run_cli,
@@ -169,6 +170,28 @@ def test_stack() -> None:
     assert all(e["bodies"] == ["lower", "upper"] for e in found)
 
 
+def test_ramp_pour_lands_first_on_the_ramp_at_the_worked_out_time() -> None:
+    # The lowest spheres of the westmost column start at rest; the ramp is the plane
+    # 0.2 x + y = 0, so a sphere of radius 0.5 touches it when its centre's height is
+    # y = 0.5 sqrt(1.04) - 0.2 x: it falls from y0 to there in sqrt(2 (y0 - y) / g) and leaves
+    # reflected about the ramp's normal with e = 0.5 (run for its first 52 steps: HEAVY_EXAMPLES).
+    result = run_cli(["run", example("ramp-pour"), "--format", "json", *heavy_options("ramp-pour")])
+    assert result.status == 0, result.err
+    data = result.json()
+    first = data["events"][0]
+    assert first["static"] and first["bodies"][0] == "ramp"
+    ball = first["bodies"][1]
+    x, y0, _ = next(b for b in data["frames"][0]["bodies"] if b["name"] == ball)["position"]
+    drop = y0 - (0.5 * math.sqrt(1.04) - 0.2 * x)
+    assert first["time"] == pytest.approx(math.sqrt(2 * drop / 9.81), rel=1e-9)
+    v = -math.sqrt(2 * 9.81 * drop)
+    n = (0.2 / math.sqrt(1.04), 1 / math.sqrt(1.04))
+    along = v * n[1]
+    after = (-(1 + 0.5) * along * n[0], v - (1 + 0.5) * along * n[1], 0.0)
+    assert close(first["velocities_after"][ball], after)
+    assert len(data["frames"]) == 2 and len(data["frames"][0]["bodies"]) == 2000
+
+
 def test_every_example_file_is_covered_above() -> None:
     covered = {
         "aabb3d",
@@ -181,13 +204,14 @@ def test_every_example_file_is_covered_above() -> None:
         "bouncing-ball",
         "newtons-cradle",
         "stack",
+        "ramp-pour",
     }
     assert set(EXAMPLE_NAMES) == covered
 
 
 @pytest.mark.parametrize("name", EXAMPLE_NAMES)
 def test_every_example_runs_as_a_table_with_a_collision_and_a_summary(name: str) -> None:
-    result = run_cli(["run", example(name)])
+    result = run_cli(["run", example(name), *heavy_options(name)])
     assert result.status == 0, result.err
     assert result.collisions()
     assert "velocit" in result.lines[result.lines.index(next(x for x in result.lines if x.startswith("collision"))) + 1]
@@ -196,7 +220,7 @@ def test_every_example_runs_as_a_table_with_a_collision_and_a_summary(name: str)
 
 @pytest.mark.parametrize("name", EXAMPLE_NAMES)
 def test_every_example_runs_the_same_as_its_demo(name: str) -> None:
-    assert run_cli(["run", example(name)]).out == run_cli(["demo", name]).out
+    assert run_cli(["run", example(name), *heavy_options(name)]).out == run_cli(["demo", name, *heavy_options(name)]).out
 
 
 def test_the_collision_line_names_what_hit_what() -> None:
