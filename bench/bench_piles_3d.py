@@ -91,7 +91,14 @@ def scenario_toml(n: int, width: float, steps: int) -> str:
         "",
     ]
     for name, centre, size in walls(width):
-        lines += ["[[static]]", f'name = "{name}"', 'shape = "aabb"', f"position = {list(centre)}", f"size = {list(size)}", ""]
+        lines += [
+            "[[static]]",
+            f'name = "{name}"',
+            'shape = "aabb"',
+            f"position = {list(centre)}",
+            f"size = {list(size)}",
+            "",
+        ]
     for i, (x, y, z) in enumerate(layout(n, width)):
         lines += [
             "[[body]]",
@@ -146,7 +153,12 @@ def ours_phases(path: Path, steps: int, rest: int, width: float) -> dict[str, An
     world.step(rest)
     rested = time.perf_counter() - start
     after = {**outcome(world.position_array, world.velocity_array, width), "asleep": stepper.asleep}
-    return {"formed_rate": n * (steps - steps // 2) / formed, "rest_rate": n * rest / rested, "end": end, "after": after}
+    return {
+        "formed_rate": n * (steps - steps // 2) / formed,
+        "rest_rate": n * rest / rested,
+        "end": end,
+        "after": after,
+    }
 
 
 # --- pybullet -------------------------------------------------------------------------------------

@@ -8,9 +8,10 @@ does and replace the file, and say why in the commit.
 
 A heavy example (``HEAVY_EXAMPLES`` in tests/cli_helpers.py: ramp-pour's 2,000 spheres take
 minutes over their 1,500 steps) is run, and its golden files were written, with
-``--steps N --every N`` (``heavy_options``): its first N steps, which reach its first
-collisions, with the first and last frames only. ramp-pour's were written at 03ad7f6 by
-``collisionlab run examples/ramp-pour.toml --steps 52 --every 52 [--format json]``.
+``--steps N --every N`` (``heavy_options``): its first N steps, which hold its first
+collisions, with the first and last frames only. ramp-pour's were written with the example
+(commit "ramp-pour: a small random velocity...") by
+``collisionlab run examples/ramp-pour.toml --steps 10 --every 10 [--format json]``.
 """
 
 from __future__ import annotations
