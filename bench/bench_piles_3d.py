@@ -3,8 +3,8 @@
 The 3D pour of issue "Piles, pours and stacks": ``N`` spheres (r 0.5 m, m 1 kg) laid on a
 lattice 1.2 diameters apart from y = 2 m, poured into a ``WIDTH`` m square box (a floor plane
 and four static AABB walls, 1 m thick and ``TOP`` m high), e 0.5, g 9.81 along -y, dt 0.01,
-``STEPS`` steps; then ``--rest`` more steps of the pile once it has formed. Both engines get the
-same bodies, the same steps and the same restitution (Bullet multiplies two objects'
+``STEPS`` steps; then twice ``--rest`` more steps of the pile once it has formed. Both engines
+get the same bodies, the same steps and the same restitution (Bullet multiplies two objects'
 restitutions, so each gets sqrt(0.5)). pybullet: no friction of any kind (lateral, rolling,
 spinning 0), its default solver (50 iterations, no substeps, its default push-out and contact
 threshold), bodies allowed to sleep (``ACTIVATION_STATE_ENABLE_SLEEPING``), as ours sleep.
@@ -13,12 +13,13 @@ Printed, each as the median of ``--runs`` runs with min-max:
 * ``collisionlab run`` the whole command over ``STEPS`` steps (start-up and compiled kernels
   loaded from the cache included; JSON written to a file), against pybullet's stepping alone;
 * the hard phases apart, stepped in process by both: the pile forming (the last half of the
-  ``STEPS``), and ``--rest`` more steps after them (the settled pile), body-steps/s;
-* what each leaves after ``STEPS`` and after the rest: kinetic energy per ball, bodies asleep,
+  ``STEPS``), ``--rest`` more steps after them (the pile settling), and ``--rest`` more again
+  (the settled pile: ours asleep by then at the full size), body-steps/s;
+* what each leaves after each phase: kinetic energy per ball, bodies asleep (ours),
   bodies outside the box, the deepest overlap of two spheres or a sphere and a wall or the
   floor (as a fraction of the radius).
 
-    python3 tasks.py bench-piles-3d                     # N 1000, 500 + 2000 steps, 3 runs
+    python3 tasks.py bench-piles-3d                     # N 1000, 500 + 2000 + 2000 steps, 3 runs
     python3 bench/bench_piles_3d.py --n 200 --steps 100 --rest 100 --runs 3   # a quick check
 """
 
@@ -153,11 +154,17 @@ def ours_phases(path: Path, steps: int, rest: int, width: float) -> dict[str, An
     world.step(rest)
     rested = time.perf_counter() - start
     after = {**outcome(world.position_array, world.velocity_array, width), "asleep": stepper.asleep}
+    start = time.perf_counter()
+    world.step(rest)
+    slept = time.perf_counter() - start
+    last = {**outcome(world.position_array, world.velocity_array, width), "asleep": stepper.asleep}
     return {
         "formed_rate": n * (steps - steps // 2) / formed,
         "rest_rate": n * rest / rested,
+        "asleep_rate": n * rest / slept,
         "end": end,
         "after": after,
+        "last": last,
     }
 
 
@@ -208,13 +215,17 @@ def pybullet_run(n: int, width: float, steps: int, rest: int) -> dict[str, Any]:
     end = state()
     rested = go(rest)
     after = state()
+    slept = go(rest)
+    last = state()
     pb.disconnect(physicsClientId=client)
     return {
         "seconds": first + formed,
         "formed_rate": n * (steps - steps // 2) / formed,
         "rest_rate": n * rest / rested,
+        "asleep_rate": n * rest / slept,
         "end": end,
         "after": after,
+        "last": last,
     }
 
 
@@ -233,11 +244,13 @@ def main() -> None:
     parser.add_argument("--n", type=int, default=1000)
     parser.add_argument("--width", type=float, default=10.0)
     parser.add_argument("--steps", type=int, default=500)
-    parser.add_argument("--rest", type=int, default=2000, help="steps after STEPS, timed apart (the settled pile)")
+    parser.add_argument(
+        "--rest", type=int, default=2000, help="steps after STEPS, timed apart, twice (settling, settled)"
+    )
     parser.add_argument("--runs", type=int, default=3)
     args = parser.parse_args()
     n, width, steps, rest = args.n, args.width, args.steps, args.rest
-    print(f"{n} spheres into a {width:g} m square box, {steps} + {rest} steps of {DT} s; "
+    print(f"{n} spheres into a {width:g} m square box, {steps} + {rest} + {rest} steps of {DT} s; "
           f"medians of {args.runs} runs (min-max)")  # fmt: skip
     print(f"machine: {os.cpu_count()} cores, Python {sys.version.split()[0]}")
     with tempfile.TemporaryDirectory() as folder:
@@ -255,13 +268,19 @@ def main() -> None:
     print(f"whole run (steps 0-{steps})  collisionlab run (command) {spread([body_steps / s / 1e6 for s in ours], 'M')}"
           f"   pybullet stepping {spread([body_steps / r['seconds'] / 1e6 for r in theirs], 'M')} body-steps/s"
           f"   collisionlab / pybullet (medians) {ratio:.2f}x")  # fmt: skip
-    for key, label in (("formed_rate", f"steps {steps // 2}-{steps}"), ("rest_rate", f"steps {steps}-{steps + rest}")):
+    for key, label in (
+        ("formed_rate", f"steps {steps // 2}-{steps}"),
+        ("rest_rate", f"steps {steps}-{steps + rest}"),
+        ("asleep_rate", f"steps {steps + rest}-{steps + 2 * rest}"),
+    ):
         print(f"{label:>24}  collisionlab {spread([p[key] / 1e6 for p in phases], 'M')}"
               f"   pybullet {spread([r[key] / 1e6 for r in theirs], 'M')} body-steps/s")  # fmt: skip
     print(leaves("collisionlab", steps * DT, {**ours_end, "asleep": phases[-1]["end"]["asleep"]}, n) + " (the command)")
     print(leaves("pybullet", steps * DT, theirs[-1]["end"], n))
     print(leaves("collisionlab", (steps + rest) * DT, phases[-1]["after"], n))
     print(leaves("pybullet", (steps + rest) * DT, theirs[-1]["after"], n))
+    print(leaves("collisionlab", (steps + 2 * rest) * DT, phases[-1]["last"], n))
+    print(leaves("pybullet", (steps + 2 * rest) * DT, theirs[-1]["last"], n))
 
 
 if __name__ == "__main__":
