@@ -6,6 +6,7 @@
     python3 tasks.py bench   # the many-body benchmark against pymunk and pybullet (bench/README.md)
     python3 tasks.py bench-engine   # the engine's figures: a 2,020-body scenario, memory, start-up
     python3 tasks.py bench-piles    # circles poured into a box: the contact solver against pymunk
+    python3 tasks.py bench-piles-3d # spheres poured into a walled box: the contact solver against pybullet
     python3 tasks.py bench-edmd     # the event-driven engine against the reference C code
     python3 tasks.py edmd-long      # 10^7 elastic collisions; 1,000 balls coming to rest
     python3 tasks.py bench-sweep    # sweeps on Dask: 2 workers against 1, overhead per point
@@ -108,6 +109,11 @@ def bench_piles() -> None:
     sh(PYTHON, "bench/bench_piles.py", *sys.argv[2:])
 
 
+def bench_piles_3d() -> None:
+    setup("bench")
+    sh(PYTHON, "bench/bench_piles_3d.py", *sys.argv[2:])
+
+
 def bench_edmd() -> None:
     setup("dev")
     sh(PYTHON, "bench/bench_edmd.py", *sys.argv[2:])
@@ -137,6 +143,7 @@ TASKS = {
     "bench": bench,
     "bench-engine": bench_engine,
     "bench-piles": bench_piles,
+    "bench-piles-3d": bench_piles_3d,
     "bench-edmd": bench_edmd,
     "edmd-long": edmd_long,
     "bench-sweep": bench_sweep,

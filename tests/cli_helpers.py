@@ -25,6 +25,13 @@ REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "src" / "collisionlab" / "examples"
 #: The scenario files among the examples (``sweep-*.toml`` are sweep files: tests/test_sweep_*.py).
 EXAMPLE_NAMES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.name.startswith("sweep-"))
+#: Examples too heavy to run in full in the test suite, and the steps the tests run them for
+#: instead. ramp-pour (2,000 spheres, 1,500 steps) takes minutes to come to rest; its first 10
+#: steps hold its first collisions (spheres that start 1 cm apart), so the tests still see
+#: events and the ledger, in a few seconds a run. The tests run such an example with
+#: ``heavy_options(name)`` (``--steps N --every N``: the first and last frames only, so its
+#: golden files stay about 0.5 MB) or ``steps = N``, and the fuzz harness leaves it out.
+HEAVY_EXAMPLES = {"ramp-pour": 10}
 #: The console script of the venv the tests run in (the package is installed editable).
 SCRIPT = Path(sys.executable).with_name("collisionlab")
 
@@ -126,6 +133,13 @@ class InterruptingStdin(io.StringIO):
 
 def example(name: str) -> str:
     return str(EXAMPLES / f"{name}.toml")
+
+
+def heavy_options(name: str) -> list[str]:
+    """The command-line options that cut a heavy example short (:data:`HEAVY_EXAMPLES`); none
+    for the others."""
+    steps = HEAVY_EXAMPLES.get(name)
+    return [] if steps is None else ["--steps", str(steps), "--every", str(steps)]
 
 
 def files_in(folder: Path) -> list[str]:

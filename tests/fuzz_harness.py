@@ -62,7 +62,7 @@ from collisionlab.cli.render import render_csv, render_json, render_table
 from collisionlab.errors import OutOfRangeError
 from collisionlab.scenario_file import ScenarioError, parse_scenario
 from collisionlab.world import InitialOverlapError, simulate
-from tests.cli_helpers import EXAMPLES, Result, run_cli, typed
+from tests.cli_helpers import EXAMPLES, HEAVY_EXAMPLES, Result, run_cli, typed
 
 __all__ = ["FUZZ_SETTINGS", "SURFACES", "Outcome", "classify_api", "classify_cli", "main"]
 
@@ -289,7 +289,9 @@ def classify_cli(result: Result, fmt: str | None = None) -> Outcome:
 
 
 # --- raw file bytes -----------------------------------------------------------------------------
-_EXAMPLE_BYTES = [path.read_bytes() for path in sorted(EXAMPLES.glob("*.toml"))]
+#: The shipped examples but the heavy ones (HEAVY_EXAMPLES: minutes a run, even edited).
+_LIGHT_EXAMPLES = sorted(p for p in EXAMPLES.glob("*.toml") if p.stem not in HEAVY_EXAMPLES)
+_EXAMPLE_BYTES = [path.read_bytes() for path in _LIGHT_EXAMPLES]
 
 
 @st.composite
@@ -357,7 +359,7 @@ _STRUCTURED = st.tuples(
         st.sampled_from(["stack", "spheres", "bouncing-ball", "newtons-cradle", "circle-box", "head-on"]).map(
             lambda name: ["demo", name]
         ),
-        st.sampled_from(sorted(p.name for p in EXAMPLES.glob("*.toml"))).map(lambda f: ["run", str(EXAMPLES / f)]),
+        st.sampled_from([p.name for p in _LIGHT_EXAMPLES]).map(lambda f: ["run", str(EXAMPLES / f)]),
         st.just(["gas", "--dim", "3"]),
     ),
     st.lists(_OPTIONS, max_size=4),
