@@ -442,7 +442,7 @@ class World:
         if hint[0] > PILE_HINT_WORK * n * hint[1]:
             self.record.warnings.append(
                 f"bodies resting on each other: {hint[0] / (n * hint[1]):.3g} impulses per body and step up to step "
-                f"{self.step_index}, resting contact resolved as a stream of impacts; contacts = \"solve\" (or "
+                f'{self.step_index}, resting contact resolved as a stream of impacts; contacts = "solve" (or '
                 "--contacts solve) solves it as contact and lets piles come to rest (README, 'Piles, pours and stacks')"
             )
             hint[0] = -1
