@@ -89,11 +89,17 @@ def scenario_toml(n: int, width: float, steps: int) -> str:
     return "\n".join(lines)
 
 
+def pair_overlap(pos: np.ndarray, radius: float) -> float:
+    """The deepest overlap of two balls of ``radius`` at ``pos`` (0 if none), in metres."""
+    n = len(pos)
+    d = np.sqrt(((pos[:, None, :] - pos[None, :, :]) ** 2).sum(axis=2)) + np.eye(n) * 1e9
+    return max(0.0, float((2 * radius - d).max()))
+
+
 def outcome(pos: np.ndarray, vel: np.ndarray, width: float) -> dict[str, float]:
     """Kinetic energy per ball, bodies outside the box, deepest overlap / radius."""
     n = len(pos)
-    d = np.sqrt(((pos[:, None, :] - pos[None, :, :]) ** 2).sum(axis=2)) + np.eye(n) * 1e9
-    overlap = max(0.0, float((2 * RADIUS - d).max()))
+    overlap = pair_overlap(pos, RADIUS)
     walls = np.r_[RADIUS - pos[:, 1], RADIUS - (pos[:, 0] + width / 2), RADIUS - (width / 2 - pos[:, 0])]
     overlap = max(overlap, float(walls.max()))
     outside = int(np.sum((pos[:, 1] < 0) | (np.abs(pos[:, 0]) > width / 2)))

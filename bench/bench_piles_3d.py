@@ -30,7 +30,6 @@ import json
 import math
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -38,6 +37,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from bench_piles import ours_command, pair_overlap, spread  # the 2D pour's, beside this file
 
 RADIUS = 0.5
 DT = 0.01
@@ -115,8 +115,7 @@ def scenario_toml(n: int, width: float, steps: int) -> str:
 def outcome(pos: np.ndarray, vel: np.ndarray, width: float) -> dict[str, float]:
     """Kinetic energy per ball, bodies outside the box, deepest overlap / radius."""
     n = len(pos)
-    d = np.sqrt(((pos[:, None, :] - pos[None, :, :]) ** 2).sum(axis=2)) + np.eye(n) * 1e9
-    overlap = max(0.0, float((2 * RADIUS - d).max()))
+    overlap = pair_overlap(pos, RADIUS)
     h = width / 2
     faces = np.r_[RADIUS - pos[:, 1], RADIUS - (pos[:, 0] + h), RADIUS - (h - pos[:, 0])]
     faces = np.r_[faces, RADIUS - (pos[:, 2] + h), RADIUS - (h - pos[:, 2])]
@@ -126,15 +125,6 @@ def outcome(pos: np.ndarray, vel: np.ndarray, width: float) -> dict[str, float]:
 
 
 # --- collisionlab ---------------------------------------------------------------------------------
-def ours_command(path: Path, out: Path) -> float:
-    """Seconds of the whole ``collisionlab run`` command."""
-    script = Path(sys.executable).with_name("collisionlab")
-    start = time.perf_counter()
-    subprocess.run([str(script), "run", str(path), "--format", "json", "--every", "100000", "--output", str(out)],
-                   check=True, stdout=subprocess.DEVNULL)  # fmt: skip
-    return time.perf_counter() - start
-
-
 def ours_phases(path: Path, steps: int, rest: int, width: float) -> dict[str, Any]:
     from collisionlab.engine.contact_stepper import ContactStepper
     from collisionlab.engine.world import World
@@ -227,10 +217,6 @@ def pybullet_run(n: int, width: float, steps: int, rest: int) -> dict[str, Any]:
         "after": after,
         "last": last,
     }
-
-
-def spread(values: list[float], unit: str = "") -> str:
-    return f"{statistics.median(values):.3g}{unit} ({min(values):.3g}-{max(values):.3g})"
 
 
 def leaves(label: str, seconds: float, end: dict[str, Any], n: int) -> str:
