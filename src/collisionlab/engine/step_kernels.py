@@ -102,6 +102,7 @@ STATIC_BOX = 2
 #: several numba arrays (each a struct of seven fields) costs more than the work inside.
 INLINE = (
     "_int",
+    "_shift",
     "_bool",
     "_pair_e",
     "_pair_sep",
@@ -1771,6 +1772,15 @@ def _reach(kind: Any, ext: Any, i: int, ux: float, uy: float, uz: float) -> floa
     return float(abs(ux) * ext[i, 0] + abs(uy) * ext[i, 1] + abs(uz) * ext[i, 2])
 
 
+def _shift(pos: Any, ima: Any, i: int, ux: float, uy: float, uz: float, move: float, gravity: Any, ledger: Any) -> None:
+    """Move body ``i`` by ``move`` along the unit ``u``, a positional correction: its potential
+    energy change, ``-m g.u move``, goes to ``ledger[2]``."""
+    pos[i, 0] = pos[i, 0] + ux * move
+    pos[i, 1] = pos[i, 1] + uy * move
+    pos[i, 2] = pos[i, 2] + uz * move
+    ledger[2] -= (gravity[0] * ux + gravity[1] * uy + gravity[2] * uz) * move / ima[i]
+
+
 def _uncross(
     kind: Any,
     pos: Any,
@@ -1804,12 +1814,8 @@ def _uncross(
             if t * was > 0.0:
                 continue
             reach = _reach(kind, ext, i, ux, uy, uz)
-            move = was * (reach - slop) - t
             ledger[4] = max(ledger[4], reach - t * was)
-            pos[i, 0] = pos[i, 0] + ux * move
-            pos[i, 1] = pos[i, 1] + uy * move
-            pos[i, 2] = pos[i, 2] + uz * move
-            ledger[2] -= (gravity[0] * ux + gravity[1] * uy + gravity[2] * uz) * move / ima[i]
+            _shift(pos, ima, i, ux, uy, uz, was * (reach - slop) - t, gravity, ledger)
 
 
 def _clamp_to_sides(
@@ -1850,11 +1856,7 @@ def _clamp_to_sides(
                 if gap >= 0.0:
                     continue
                 ledger[4] = max(ledger[4], -gap)
-                push = slop - gap
-                pos[b, 0] = pos[b, 0] + ux * push
-                pos[b, 1] = pos[b, 1] + uy * push
-                pos[b, 2] = pos[b, 2] + uz * push
-                ledger[2] -= (gravity[0] * ux + gravity[1] * uy + gravity[2] * uz) * push / ima[b]
+                _shift(pos, ima, b, ux, uy, uz, slop - gap, gravity, ledger)
 
 
 def _no_energy_from_corrections(
