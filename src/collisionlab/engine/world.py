@@ -20,6 +20,7 @@ scenario says ``allow_initial_overlap``: then the first step resolves them and a
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -112,6 +113,8 @@ class World:
         self._observer: RunObserver | None = None
         self._keep = True
         self._events: SequenceChain[CollisionEvent] = SequenceChain()  # the record's, a block per chunk
+        #: How :meth:`run` and :meth:`advance` make each compiled call (``None``: directly).
+        self._calling: Callable[[Callable[[], None]], None] | None = None
         self.record = RunRecord(
             title=scenario.title,
             mode=settings.mode,
@@ -458,8 +461,14 @@ class World:
         and take the ledger's sums and the events."""
         settings = self.scenario.settings
         entry = ("run_contact_steps" if self._solving else "run_exact_steps") if self._exact else "run_steps"
+        call = functools.partial(
+            self._stepper.advance, kernels, settings.dt, settings.restitution, self.step_index, steps
+        )
         with contextlib.nullcontext() if kernels is None else self._first_call(kernels, entry):
-            self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
+            if self._calling is None or not self.compiled:
+                call()
+            else:  # the caller's way (the command line: a thread of its own while it waits for signals)
+                self._calling(call)
         self.step_index += steps
         self.time = self.step_index * settings.dt
         # The stepper's running totals: summed in event order whatever the chunks, so a run's
@@ -520,17 +529,34 @@ class World:
         steps: int,
         between: Callable[[int, int], None] | None = None,
         clock: Callable[[], float] = time.perf_counter,
+        calling: Callable[[Callable[[], None]], None] | None = None,
     ) -> float:
         """:meth:`step` ``steps`` times in chunks of about ``CHUNK_SECONDS`` of compiled work
         (one step at a time in Python form), checking after each that the numbers stay in the
         range that can be simulated and calling ``between(done, steps)`` (where a caller shows
         progress and looks for Ctrl-C). No frames are made. Returns the seconds spent stepping
-        (``clock``'s)."""
+        (``clock``'s). ``calling(call)``, if given, makes each compiled call (``call()``: the
+        stepper's kernels over one chunk) as :meth:`run`'s does."""
         guard = limits.RangeGuard(self.scenario)
         gains = self.scenario.energy_warning() is not None  # e > 1: speeds grow, look every step
         # Balls in a box with e <= 1 stay in their box at speeds their energy bounds: the
         # event-driven stepper then copies its state (O(N)) only at the end, not every chunk.
         watch = gains or not self.event_driven
+        self._calling = calling
+        try:
+            return self._advance_chunks(steps, between, clock, guard, gains, watch)
+        finally:
+            self._calling = None
+
+    def _advance_chunks(
+        self,
+        steps: int,
+        between: Callable[[int, int], None] | None,
+        clock: Callable[[], float],
+        guard: limits.RangeGuard,
+        gains: bool,
+        watch: bool,
+    ) -> float:
         done, chunk, spent = 0, 1, 0.0
         while done < steps:
             count = min(chunk, steps - done)
@@ -563,17 +589,21 @@ class World:
         progress: Callable[[int, int], None] | None = None,
         observer: RunObserver | None = None,
         keep: bool = True,
+        calling: Callable[[Callable[[], None]], None] | None = None,
     ) -> RunRecord:
         """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
         ``progress(done, total)`` is called between chunks of steps. ``observer`` is told every
         frame, event and warning as it is produced (:class:`~collisionlab.record.RunObserver`);
         with ``keep=False`` the record then holds no events and only the first and latest
-        frames (its counts and ledger stay whole), so memory does not grow with the run."""
+        frames (its counts and ledger stay whole), so memory does not grow with the run.
+        ``calling(call)``, if given, makes each compiled call instead of ``call()`` (``call``: the
+        stepper's kernels over one chunk of steps, nothing else): the command line runs it in a
+        thread of its own and waits, ready for a signal, since a chunk cannot be stopped inside."""
         total = self.scenario.settings.steps
         if keep:
             limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
         guard = limits.RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
-        self._observer, self._keep = observer, keep
+        self._observer, self._keep, self._calling = observer, keep, calling
         if not self._exact:
             self._check_tunnelling()  # known before the first frame, so it heads the output
         if observer is not None:
@@ -586,7 +616,7 @@ class World:
         try:
             self._run_chunks(total, every, progress, guard, told)
         finally:
-            self._observer, self._keep = None, True
+            self._observer, self._keep, self._calling = None, True, None
         if observer is not None:
             observer.end(self.record)
         return self.record
