@@ -1,6 +1,7 @@
 """Signals: SIGTERM and SIGHUP are handled as Ctrl-C (files written atomically are cleaned up,
 one line, exit status 128 + the signal's number), and compiled loops that Python cannot
-interrupt are stepped in short chunks with the interrupt checked between them. A compile
+interrupt are stepped in chunks, each in a thread of its own while the main thread waits and
+looks for a signal (:class:`ChunkWatch`: a chunk may last seconds). A compile
 (numba's, whose LLVM passes run for seconds in C, where Python cannot run a signal's handler)
 runs in a thread of its own while the main thread waits ready for a signal
 (:func:`interruptible`). A signal the program was started ignoring (``nohup``, a background job)
@@ -131,15 +132,16 @@ def remembered_interrupts() -> Iterator[Pending]:
 
 def interrupts_for(compiled: bool) -> contextlib.AbstractContextManager[Pending]:
     """How a loop of steps hears Ctrl-C, SIGTERM and SIGHUP: a compiled kernel cannot be stopped
-    inside a call, so the signal waits for the end of its chunk (:func:`deferred_interrupts`); the
+    inside a call, so the signal is only noted (:func:`deferred_interrupts`), and raised between
+    chunks or by the thread waiting for one (:class:`ChunkWatch`); the
     kernels' Python form can, and one of its steps may take seconds (200,000 balls: about 5 s),
     so there the signal raises at once (:func:`remembered_interrupts`)."""
     return deferred_interrupts() if compiled else remembered_interrupts()
 
 
 def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None = None) -> Callable[[int, int], None]:
-    """What runs between two chunks of compiled steps: a deferred signal is raised (a chunk lasts
-    a fraction of a second, so the program stops within a second) and ``progress`` is told."""
+    """What runs between two chunks of compiled steps: a deferred signal is raised and
+    ``progress`` is told (:class:`ChunkWatch` looks for a signal during a chunk too)."""
 
     def between(done: int, total: int) -> None:
         pending.check()

@@ -46,7 +46,7 @@ from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
 
-__all__ = ["CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
+__all__ = ["CHUNK_EVENT_ROWS", "CHUNK_SECONDS", "EXACT_CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
 
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
 #: is looked at between calls: it stops a run within a second).
@@ -57,6 +57,14 @@ CHUNK_SECONDS = 0.25
 #: ``contacts = "solve"`` is made for it. A gas, a cradle or a bouncing ball stays below 1.
 PILE_HINT_WORK = 100
 PILE_HINT_STEPS = 20
+#: What an exact stepper's chunk aims at instead: its steps can grow a hundredfold dearer within a
+#: few (2,000 circles landing in a pile: 64 steps took 0.18 s, the next 82 took 36 s, measured),
+#: so a chunk sized on fast steps must be short to stay within seconds when they slow down. (A
+#: chunk's call costs about 1 ms beside its steps: at this aim, a few per cent at most.)
+EXACT_CHUNK_SECONDS = CHUNK_SECONDS / 10
+#: Event rows a chunk may produce, going by the last chunk's rate: the kernel keeps a chunk's rows
+#: (208 bytes each) until it returns, and a pile's steps make up to 100,000 impacts each.
+CHUNK_EVENT_ROWS = 1 << 20
 
 
 def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
@@ -560,6 +568,7 @@ class World:
         done, chunk, spent = 0, 1, 0.0
         while done < steps:
             count = min(chunk, steps - done)
+            events = self.record.collision_count
             started = clock()
             try:
                 self._steps(count)
@@ -579,9 +588,31 @@ class World:
             if between is not None:
                 between(done, steps)
             if self.compiled and not gains:
-                chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+                chunk = self._next_chunk(chunk, count, took, self.record.collision_count - events)
         self._settle()
         return spent
+
+    def _next_chunk(self, chunk: int, count: int, took: float, events: int) -> int:
+        """Steps for the next compiled call, after one of ``count`` steps (``chunk`` asked) took
+        ``took`` seconds and made ``events`` collision events: as many as would take
+        ``CHUNK_SECONDS`` at the last call's pace (``EXACT_CHUNK_SECONDS`` for the exact steppers
+        of bodies among obstacles, whose steps can slow down a hundredfold at once; not the
+        event-driven one's balls in a box), at most 4 times as many as the last, and about
+        ``CHUNK_EVENT_ROWS`` events at most.
+
+        >>> from collisionlab import Sphere
+        >>> from collisionlab.model import Body, Settings, Scenario
+        >>> euler = World(Scenario(Settings(dt=0.1, steps=10), (Body("b", Sphere((0, 0, 0), 1), (0, 0, 0)),)))
+        >>> euler._next_chunk(16, 16, 0.02, 0), euler._next_chunk(16, 16, 0.5, 0), euler._next_chunk(16, 16, 0.0, 0)
+        (64, 8, 64)
+        >>> euler._next_chunk(64, 64, 0.01, 64 * CHUNK_EVENT_ROWS // 2)  # events: 2 steps' worth at most
+        2
+        """
+        aim = EXACT_CHUNK_SECONDS if self._exact and not self.event_driven else CHUNK_SECONDS
+        steps = min(4 * chunk, int(count * aim / took)) if took > 0.0 else 4 * chunk
+        if events > 0:
+            steps = min(steps, count * CHUNK_EVENT_ROWS // events)
+        return max(1, steps)
 
     def run(
         self,
@@ -640,6 +671,7 @@ class World:
             to_frame = every - self.step_index % every
             count = min(to_frame, chunk, total - self.step_index)
             framing = count == to_frame or self.step_index + count == total
+            events = self.record.collision_count
             started = time.perf_counter()
             try:
                 self._steps(count)
@@ -660,7 +692,7 @@ class World:
             told = len(self.record.warnings)
             if self.compiled:
                 took = time.perf_counter() - started
-                chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+                chunk = self._next_chunk(chunk, count, took, self.record.collision_count - events)
             if framing:
                 frame = self._frame(positions, velocities)
                 if not self._keep and len(self.record.frames) > 1:
