@@ -46,7 +46,15 @@ from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
 
-__all__ = ["CHUNK_EVENT_ROWS", "CHUNK_SECONDS", "EXACT_CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
+__all__ = [
+    "CHUNK_BODY_STEPS",
+    "CHUNK_EVENT_ROWS",
+    "CHUNK_SECONDS",
+    "EXACT_CHUNK_SECONDS",
+    "InitialOverlapError",
+    "World",
+    "simulate",
+]
 
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
 #: is looked at between calls: it stops a run within a second).
@@ -62,6 +70,11 @@ PILE_HINT_STEPS = 20
 #: so a chunk sized on fast steps must be short to stay within seconds when they slow down. (A
 #: chunk's call costs about 1 ms beside its steps: at this aim, a few per cent at most.)
 EXACT_CHUNK_SECONDS = CHUNK_SECONDS / 10
+#: Body-steps one exact chunk may hold (32 steps of 2,000 bodies): at its aim alone, steps of
+#: falling bodies (0.2 ms each for 2,000 circles) grew a chunk to 128 steps, and the bodies landed
+#: inside it (0.4 s a step: a chunk of a minute, 1.4M events). A few per cent more calls while
+#: steps are that cheap; worlds of a few bodies are not held back.
+CHUNK_BODY_STEPS = 1 << 16
 #: Event rows a chunk may produce, going by the last chunk's rate: the kernel keeps a chunk's rows
 #: (208 bytes each) until it returns, and a pile's steps make up to 100,000 impacts each.
 CHUNK_EVENT_ROWS = 1 << 20
@@ -597,8 +610,9 @@ class World:
         ``took`` seconds and made ``events`` collision events: as many as would take
         ``CHUNK_SECONDS`` at the last call's pace (``EXACT_CHUNK_SECONDS`` for the exact steppers
         of bodies among obstacles, whose steps can slow down a hundredfold at once; not the
-        event-driven one's balls in a box), at most 4 times as many as the last, and about
-        ``CHUNK_EVENT_ROWS`` events at most.
+        event-driven one's balls in a box, whose chunks hold ``CHUNK_BODY_STEPS`` body-steps at
+        most too), at most 4 times as many as the last, and about ``CHUNK_EVENT_ROWS`` events
+        at most.
 
         >>> from collisionlab import Sphere
         >>> from collisionlab.model import Body, Settings, Scenario
@@ -608,8 +622,11 @@ class World:
         >>> euler._next_chunk(64, 64, 0.01, 64 * CHUNK_EVENT_ROWS // 2)  # events: 2 steps' worth at most
         2
         """
-        aim = EXACT_CHUNK_SECONDS if self._exact and not self.event_driven else CHUNK_SECONDS
+        exact = self._exact and not self.event_driven
+        aim = EXACT_CHUNK_SECONDS if exact else CHUNK_SECONDS
         steps = min(4 * chunk, int(count * aim / took)) if took > 0.0 else 4 * chunk
+        if exact:
+            steps = min(steps, CHUNK_BODY_STEPS // max(self._bodies.n, 1))
         if events > 0:
             steps = min(steps, count * CHUNK_EVENT_ROWS // events)
         return max(1, steps)
