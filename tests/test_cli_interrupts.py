@@ -7,12 +7,14 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
+import threading
 from pathlib import Path
 from typing import Any
 
 import pytest
 
-from collisionlab.cli.interrupts import remembered_interrupts
+from collisionlab.cli.interrupts import ChunkWatch, deferred_interrupts, remembered_interrupts
 from tests.cli_helpers import EXAMPLES, cpu_seconds, files_in, finish, read_until, wait_for_cpu_seconds
 
 
@@ -160,3 +162,110 @@ def test_a_signal_during_a_cold_compile_stops_the_run_and_leaves_no_file(tmp_pat
     assert status == _STATUS[name]
     assert err.decode().rstrip().endswith(_LINE[name]) and b"Traceback" not in err
     assert files_in(folder) == []
+
+
+# --- a signal while one chunk of compiled steps runs ---------------------------------------------
+def _long_chunk_code(argv: list[str]) -> str:
+    """The console script with every compiled chunk of steps replaced by a C call of many minutes
+    that releases the GIL and never looks at signals (as a compiled chunk does: a pile forming
+    made one chunk last 13.7 s, and SIGINT waited for its end), the kernels' load skipped."""
+    return (
+        "import hashlib, sys\n"
+        "from collisionlab.engine.contact_stepper import ContactStepper\n"
+        "from collisionlab.engine.exact_stepper import ExactStepper\n"
+        "from collisionlab.engine.stepper import EulerStepper\n"
+        "from collisionlab.engine.world import World\n"
+        "def advance(self, *args):\n"
+        "    print('stepping', file=sys.stderr, flush=True)\n"
+        "    hashlib.pbkdf2_hmac('sha256', b'x', b'y', 2**31 - 1)\n"
+        "World.load_kernels = lambda self: 0.0\n"
+        "EulerStepper.advance = ExactStepper.advance = ContactStepper.advance = advance\n"
+        "from collisionlab.cli import entry_point\n"
+        f"sys.argv = ['collisionlab', *{argv!r}]\n"
+        "entry_point()\n"
+    )
+
+
+def _signal_inside_the_chunk(code: str, name: str) -> tuple[int, bytes, bytes]:
+    """Run ``code``, send signal ``name`` once its chunk has used a second of CPU (inside the C
+    call, not in the bytecodes before it); the status, stdout and stderr."""
+    with (
+        tempfile.TemporaryFile() as stdout,
+        subprocess.Popen(
+            [sys.executable, "-c", code], stdin=subprocess.DEVNULL, stdout=stdout, stderr=subprocess.PIPE
+        ) as process,
+    ):
+        assert process.stderr is not None
+        read_until(process.stderr.fileno(), b"stepping", timeout=120)
+        wait_for_cpu_seconds(process.pid, cpu_seconds(process.pid) + 1.0)
+        process.send_signal(getattr(signal, name))
+        status, err = finish(process, timeout=30)  # unfixed: the chunk's end, many minutes away
+        stdout.seek(0)
+        out = stdout.read()
+    return status, out, err
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM", "SIGHUP"])
+def test_a_signal_stops_a_run_inside_a_long_chunk_of_compiled_steps(tmp_path: Path, name: str) -> None:
+    argv = [
+        "run", str(EXAMPLES / "head-on.toml"), "--kernels", "compiled", "--steps", "1000",
+        "--output", str(tmp_path / "out.json"), "--format", "json", "--plot", str(tmp_path / "f.png"),
+    ]  # fmt: skip
+    status, out, err = _signal_inside_the_chunk(_long_chunk_code(argv), name)
+    assert status == _STATUS[name]
+    assert err.decode().rstrip().endswith(_LINE[name]) and b"Traceback" not in err
+    assert out == b"" and files_in(tmp_path) == []
+
+
+def test_a_signal_inside_a_long_chunk_prints_what_an_interrupt_between_chunks_prints() -> None:
+    # To stdout: nothing (the output reaches it only when the run is whole); to stderr: one line.
+    argv = ["run", str(EXAMPLES / "head-on.toml"), "--kernels", "compiled", "--steps", "1000", "--quiet"]
+    status, out, err = _signal_inside_the_chunk(_long_chunk_code(argv), "SIGINT")
+    assert status == 130 and out == b""
+    assert [line for line in err.decode().splitlines() if line] == ["collisionlab: interrupted"]  # after "stepping"
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM"])
+def test_a_signal_stops_gas_inside_a_long_chunk_of_compiled_steps(name: str) -> None:
+    argv = ["gas", "--n", "200", "--steps", "1000", "--kernels", "compiled", "--quiet"]
+    status, out, err = _signal_inside_the_chunk(_long_chunk_code(argv), name)
+    assert status == _STATUS[name] and out == b""
+    assert err.decode().rstrip().endswith(_LINE[name]) and b"Traceback" not in err
+
+
+def test_progress_is_told_again_while_a_chunk_runs() -> None:
+    # A progress line every 10 s (stderr not a terminal) must go on through a chunk of minutes:
+    # the waiting thread tells progress again where the run stands. The chunk here ends only once
+    # progress has been told (or after 30 s, failing).
+    told: list[tuple[int, int]] = []
+    heard = threading.Event()
+
+    def progress(done: int, total: int) -> None:
+        told.append((done, total))
+        heard.set()
+
+    with deferred_interrupts() as pending:
+        watch = ChunkWatch(pending, progress)
+        watch.between(3, 10)
+        heard.clear()
+        watch.call(lambda: None if heard.wait(timeout=30) else pytest.fail("progress not told during the chunk"))
+    assert told[0] == (3, 10) and set(told) == {(3, 10)} and len(told) >= 2
+
+
+def test_a_signal_noted_during_a_chunk_is_raised_in_the_waiting_thread() -> None:
+    # The chunk (here: waiting for an event) is left behind; the signal is raised in the main
+    # thread, not inside the chunk's call.
+    release, started = threading.Event(), threading.Event()
+
+    def chunk() -> None:
+        started.set()
+        release.wait(timeout=60)
+
+    try:
+        with pytest.raises(KeyboardInterrupt), deferred_interrupts() as pending:
+            watch = ChunkWatch(pending)
+            threading.Timer(0.0, lambda: (started.wait(60), os.kill(os.getpid(), signal.SIGINT))).start()
+            watch.call(chunk)
+    finally:
+        release.set()
+    assert started.is_set()

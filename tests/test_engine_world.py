@@ -442,3 +442,26 @@ def test_a_pile_resolved_as_impacts_says_once_that_the_contact_solver_is_made_fo
     solved = World(_pour(30, 4.0, "solve"), WorldParams(compiled=True))
     solved.step(200)
     assert not any('contacts = "solve"' in w for w in solved.record.warnings)
+
+
+def test_exact_chunks_stay_short_when_the_steps_slow_down() -> None:
+    # Circles poured into a box: 64 exact steps took 0.18 s while they fell, so the next chunk was
+    # sized at 88 steps, and it took 36 s once they landed (each step a hundred times dearer): the
+    # progress count, the output and the event buffer (every row of a chunk) waited for it. On a
+    # clock where steps cost 1 ms, then 100 ms from step 100, no chunk may pass the exact aim at
+    # the pace of the last (EXACT_CHUNK_SECONDS: 25 steps of 1 ms), nor grow past one step after.
+    from collisionlab.engine.world import EXACT_CHUNK_SECONDS
+    from collisionlab.scenario_file import load_scenario
+    from tests.cli_helpers import EXAMPLES
+
+    world = World(load_scenario(EXAMPLES / "bouncing-ball.toml").with_settings(steps=200), WorldParams(compiled=True))
+    assert not world.event_driven
+    chunks: list[int] = []
+
+    def clock() -> float:
+        return 0.001 * min(world.step_index, 100) + 0.1 * max(world.step_index - 100, 0)
+
+    world.advance(200, lambda done, total: chunks.append(done - sum(chunks)), clock)
+    assert sum(chunks) == 200
+    assert max(chunks) <= round(EXACT_CHUNK_SECONDS / 0.001)
+    assert chunks[-50:] == [1] * 50  # at 0.1 s a step: one at a time

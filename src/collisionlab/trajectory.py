@@ -128,12 +128,13 @@ def advance_in_frames(
     frames: int,
     write: FrameWriter,
     between: Callable[[int, int], None] | None = None,
+    calling: Callable[[Callable[[], None]], None] | None = None,
 ) -> float:
     """:meth:`World.advance <collisionlab.engine.world.World.advance>` ``steps`` steps, stopping
     at :func:`frame_steps` to ``write`` a frame (the start's before any step); ``between(done,
     steps)`` as ``advance`` calls it, counted over the whole run. The step written is the
     world's step number, or the frame's index for an event-driven run (it has no steps). Returns
-    the seconds spent stepping (writing frames not counted)."""
+    the seconds spent stepping (writing frames not counted). ``calling`` as ``advance`` takes it."""
     dim = world.dims
     start = world.step_index
     spent = 0.0
@@ -144,7 +145,7 @@ def advance_in_frames(
             relay = None
             if between is not None:
                 relay = lambda done, _total, base=done_before: between(base + done, steps)  # noqa: E731
-            spent += world.advance(todo, relay)
+            spent += world.advance(todo, relay, calling=calling)
         step = index if world.event_driven else world.step_index
         write(step, float(world.time), world.position_array[:, :dim], world.velocity_array[:, :dim])
     return spent

@@ -21,7 +21,7 @@ from ..engine.world import World
 from ..errors import InvalidInputError, OutOfRangeError
 from ..particles import BACKENDS, gas_scenario
 from ..particles.scenarios import SPEED_DISTRIBUTIONS
-from .interrupts import between_chunks, deferred_interrupts, interruptible, interrupts_for
+from .interrupts import ChunkWatch, deferred_interrupts, interruptible, interrupts_for
 from .progress import ProgressBar
 from .streams import Streams
 
@@ -282,14 +282,14 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
     bar = ProgressBar(streams, label="gas time")
     try:
-        with deferred_interrupts() as pending:  # Ctrl-C is looked for between chunks of the loop
-            between = between_chunks(pending, bar if notes else None)
+        with deferred_interrupts() as pending:  # Ctrl-C is looked for while a chunk of the loop runs too
+            watch = ChunkWatch(pending, bar if notes else None)
             side = world.scenario.box.sides if world.scenario.box is not None else ()
             with contextlib.ExitStack() as files:
                 if args.events is not None:
                     world.listen(files.enter_context(event_file(args.events)))
                 write = files.enter_context(_trajectory(args, side, gas.boundary == "periodic", gas.radius))
-                report = run_exact_gas(gas, world, between, frames=frames, write_frame=write)
+                report = run_exact_gas(gas, world, watch.between, frames=frames, write_frame=write, calling=watch.call)
             if args.events is not None:
                 report["events_file"] = args.events
             if frames:
@@ -346,13 +346,13 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     energy_start = world.kinetic_energy()
     bar = ProgressBar(streams, label="gas steps")
     try:
-        with interrupts_for(world.compiled) as pending:  # compiled: looked for between chunks
-            between = between_chunks(pending, bar if notes else None)
+        with interrupts_for(world.compiled) as pending:  # compiled: looked for while a chunk runs too
+            watch = ChunkWatch(pending, bar if notes else None)
             if frames:
                 with _trajectory(args, (gas.side,) * gas.dim, False, gas.radius) as write:
-                    seconds = advance_in_frames(world, steps, frames, write, between)
+                    seconds = advance_in_frames(world, steps, frames, write, watch.between, watch.call)
             else:
-                seconds = world.advance(steps, between)
+                seconds = world.advance(steps, watch.between, calling=watch.call)
     except OutOfRangeError as err:
         streams.err(f"{_PROG}: {err}")
         return 65

@@ -1,6 +1,7 @@
 """Signals: SIGTERM and SIGHUP are handled as Ctrl-C (files written atomically are cleaned up,
 one line, exit status 128 + the signal's number), and compiled loops that Python cannot
-interrupt are stepped in short chunks with the interrupt checked between them. A compile
+interrupt are stepped in chunks, each in a thread of its own while the main thread waits and
+looks for a signal (:class:`ChunkWatch`: a chunk may last seconds). A compile
 (numba's, whose LLVM passes run for seconds in C, where Python cannot run a signal's handler)
 runs in a thread of its own while the main thread waits ready for a signal
 (:func:`interruptible`). A signal the program was started ignoring (``nohup``, a background job)
@@ -16,6 +17,7 @@ from types import FrameType
 from typing import TypeVar
 
 __all__ = [
+    "ChunkWatch",
     "Pending",
     "Stopped",
     "abandon",
@@ -130,15 +132,16 @@ def remembered_interrupts() -> Iterator[Pending]:
 
 def interrupts_for(compiled: bool) -> contextlib.AbstractContextManager[Pending]:
     """How a loop of steps hears Ctrl-C, SIGTERM and SIGHUP: a compiled kernel cannot be stopped
-    inside a call, so the signal waits for the end of its chunk (:func:`deferred_interrupts`); the
+    inside a call, so the signal is only noted (:func:`deferred_interrupts`), and raised between
+    chunks or by the thread waiting for one (:class:`ChunkWatch`); the
     kernels' Python form can, and one of its steps may take seconds (200,000 balls: about 5 s),
     so there the signal raises at once (:func:`remembered_interrupts`)."""
     return deferred_interrupts() if compiled else remembered_interrupts()
 
 
 def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None = None) -> Callable[[int, int], None]:
-    """What runs between two chunks of compiled steps: a deferred signal is raised (a chunk lasts
-    a fraction of a second, so the program stops within a second) and ``progress`` is told."""
+    """What runs between two chunks of compiled steps: a deferred signal is raised and
+    ``progress`` is told (:class:`ChunkWatch` looks for a signal during a chunk too)."""
 
     def between(done: int, total: int) -> None:
         pending.check()
@@ -148,7 +151,43 @@ def between_chunks(pending: Pending, progress: Callable[[int, int], None] | None
     return between
 
 
-def interruptible(work: Callable[[], _T]) -> _T:
+class ChunkWatch:
+    """How the command line runs a compiled world's steps: a signal stops it within a moment
+    even inside a chunk of steps that runs for seconds (a pile forming: one chunk, sized on the
+    early fast steps, took 13.7 s; SIGINT waited for its end), and progress keeps being told.
+
+    :meth:`call` (a world's ``calling=``) runs each chunk in a thread of its own (the compiled
+    kernels release the GIL) while this thread waits, looking every :data:`WAIT_SLICE` seconds
+    at ``pending`` (the signals are only noted meanwhile, :func:`deferred_interrupts`, never
+    raised inside a compiled call) and telling ``progress`` again where the run stands (a
+    progress line every 10 s goes on through a long chunk). A signal is raised here and the
+    chunk is left behind, unfinished, as a compile is (:func:`interruptible`): the command leaves
+    as for a signal between chunks, its files unwritten. :meth:`between` (a world's
+    ``progress=``) runs between chunks: :func:`between_chunks`.
+    """
+
+    def __init__(self, pending: Pending, progress: Callable[[int, int], None] | None = None) -> None:
+        self.pending = pending
+        self.progress = progress
+        self._between = between_chunks(pending, progress)
+        self._reached: tuple[int, int] | None = None  # (done, total) at the last chunk's end
+
+    def between(self, done: int, total: int) -> None:
+        self._reached = (done, total)
+        self._between(done, total)
+
+    def call(self, work: Callable[[], None]) -> None:
+        interruptible(work, tick=self._tick, name="collisionlab-steps")
+
+    def _tick(self) -> None:
+        self.pending.check()
+        if self.progress is not None and self._reached is not None:
+            self.progress(*self._reached)
+
+
+def interruptible(
+    work: Callable[[], _T], tick: Callable[[], None] | None = None, name: str = "collisionlab-compile"
+) -> _T:
     """``work()``, run in a thread of its own while this one waits for it, looking for a signal
     every :data:`WAIT_SLICE` seconds; its result, or what it raised, raised here.
 
@@ -159,7 +198,8 @@ def interruptible(work: Callable[[], _T]) -> _T:
     thread only waits, and the handler's exception (KeyboardInterrupt, :class:`Stopped`) is
     raised at once and leaves the compile behind, unfinished (a daemon thread: numba writes its
     cache only for a finished compile; the entry point then ends the process without waiting,
-    :func:`abandoned_work`). Outside the main thread, ``work()`` is simply called.
+    :func:`abandoned_work`). ``tick()`` is called in this thread at every look (it may raise: a
+    deferred signal, :class:`ChunkWatch`). Outside the main thread, ``work()`` is simply called.
 
     >>> interruptible(lambda: 6 * 7)
     42
@@ -178,11 +218,12 @@ def interruptible(work: Callable[[], _T]) -> _T:
         finally:
             done.set()
 
-    thread = threading.Thread(target=run, name="collisionlab-compile", daemon=True)
+    thread = threading.Thread(target=run, name=name, daemon=True)
     thread.start()
     try:
         while not done.wait(WAIT_SLICE):  # a signal's handler runs, and may raise, between two waits
-            pass
+            if tick is not None:
+                tick()
     except BaseException:
         abandon(thread)
         raise

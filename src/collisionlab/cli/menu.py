@@ -17,7 +17,7 @@ from ..shapes import Plane
 from ..validate import finite_number, positive
 from ..vector import Vector3D
 from ..world import World
-from .interrupts import between_chunks, interruptible, interrupts_for
+from .interrupts import ChunkWatch, interruptible, interrupts_for
 from .progress import ProgressBar
 from .render import render_table
 from .streams import Streams
@@ -397,7 +397,8 @@ def run_menu(streams: Streams) -> int:
     bar = ProgressBar(streams, scenario.title)
     try:
         with interrupts_for(world.compiled) as pending:  # compiled: looked for between chunks
-            record = world.run(progress=between_chunks(pending, bar))
+            watch = ChunkWatch(pending, bar)  # a chunk runs in a thread of its own: a signal stops it
+            record = world.run(progress=watch.between, calling=watch.call)
     finally:
         bar.close()
     streams.stdout.write(render_table(record))

@@ -23,7 +23,7 @@ from ..scenario_file import load_scenario
 from ..validate import whole_number
 from ..world import World
 from .background import BackgroundObserver
-from .interrupts import between_chunks, interruptible, interrupts_for
+from .interrupts import ChunkWatch, interruptible, interrupts_for
 from .progress import ProgressBar
 from .render import writer_for
 from .streams import Streams
@@ -232,12 +232,15 @@ def execute(
                     observer: RunObserver = writer
                     if world.compiled:  # its kernels run without the GIL: the writer works beside them
                         observer = stack.enter_context(BackgroundObserver(writer))
-                    # Compiled, a signal is looked at between chunks of steps: raised inside a compiled
-                    # call it would surface as "SystemError: CPUDispatcher returned a result with an
-                    # exception set". The Python form raises it at once: one of its steps may take seconds.
-                    pending = stack.enter_context(interrupts_for(world.compiled))
-                    progress = between_chunks(pending, bar)
-                    record = world.run(every=args.every, progress=progress, observer=observer, keep=pictures)
+                    # Compiled, a signal is only noted (raised inside a compiled call it would surface
+                    # as "SystemError: CPUDispatcher returned a result with an exception set"), and each
+                    # chunk of steps runs in a thread of its own while this one waits and looks for it:
+                    # a chunk may last seconds. The Python form raises it at once: one of its steps may
+                    # take seconds too.
+                    watch = ChunkWatch(stack.enter_context(interrupts_for(world.compiled)), bar)
+                    record = world.run(
+                        every=args.every, progress=watch.between, observer=observer, keep=pictures, calling=watch.call
+                    )
             except OutOfRangeError as error:
                 raise error.within(sources[index]) if sources else error from None
             finally:

@@ -186,13 +186,15 @@ def run_exact_gas(
     between: Callable[[int, int], None] | None = None,
     frames: int = 0,
     write_frame: FrameWriter | None = None,
+    calling: Callable[[Callable[[], None]], None] | None = None,
 ) -> dict[str, Any]:
     """Run ``gas`` on the engine's world (``world``, fresh from ``World(gas.scenario())``, or one
     made now) for ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``.
     ``between(done, total)`` is called between chunks of steps (progress, Ctrl-C). With
     ``write_frame``, ``frames`` frames at equal times are written through it
     (:func:`collisionlab.trajectory.advance_in_frames`: ``frames - 1`` must divide the
-    scenario's steps, see :func:`~collisionlab.trajectory.steps_for_frames`)."""
+    scenario's steps, see :func:`~collisionlab.trajectory.steps_for_frames`). ``calling`` makes
+    each compiled call (:meth:`World.advance <collisionlab.engine.world.World.advance>`)."""
     from ..engine.event_stepper import EventDrivenStepper
     from ..engine.world import World
 
@@ -207,9 +209,9 @@ def run_exact_gas(
     if write_frame is not None and frames > 0:
         from ..trajectory import advance_in_frames
 
-        seconds = advance_in_frames(world, remaining, frames, write_frame, between)
+        seconds = advance_in_frames(world, remaining, frames, write_frame, between, calling)
     else:
-        seconds = world.advance(remaining, between)
+        seconds = world.advance(remaining, between, calling=calling)
     report: dict[str, Any] = {
         "n": gas.n,
         "dim": gas.dim,

@@ -20,6 +20,7 @@ scenario says ``allow_initial_overlap``: then the first step resolves them and a
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
 import time
 from collections.abc import Callable
@@ -45,7 +46,15 @@ from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
 
-__all__ = ["CHUNK_SECONDS", "InitialOverlapError", "World", "simulate"]
+__all__ = [
+    "CHUNK_BODY_STEPS",
+    "CHUNK_EVENT_ROWS",
+    "CHUNK_SECONDS",
+    "EXACT_CHUNK_SECONDS",
+    "InitialOverlapError",
+    "World",
+    "simulate",
+]
 
 #: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
 #: is looked at between calls: it stops a run within a second).
@@ -56,6 +65,19 @@ CHUNK_SECONDS = 0.25
 #: ``contacts = "solve"`` is made for it. A gas, a cradle or a bouncing ball stays below 1.
 PILE_HINT_WORK = 100
 PILE_HINT_STEPS = 20
+#: What an exact stepper's chunk aims at instead: its steps can grow a hundredfold dearer within a
+#: few (2,000 circles landing in a pile: 64 steps took 0.18 s, the next 82 took 36 s, measured),
+#: so a chunk sized on fast steps must be short to stay within seconds when they slow down. (A
+#: chunk's call costs about 1 ms beside its steps: at this aim, a few per cent at most.)
+EXACT_CHUNK_SECONDS = CHUNK_SECONDS / 10
+#: Body-steps one exact chunk may hold (32 steps of 2,000 bodies): at its aim alone, steps of
+#: falling bodies (0.2 ms each for 2,000 circles) grew a chunk to 128 steps, and the bodies landed
+#: inside it (0.4 s a step: a chunk of a minute, 1.4M events). A few per cent more calls while
+#: steps are that cheap; worlds of a few bodies are not held back.
+CHUNK_BODY_STEPS = 1 << 16
+#: Event rows a chunk may produce, going by the last chunk's rate: the kernel keeps a chunk's rows
+#: (208 bytes each) until it returns, and a pile's steps make up to 100,000 impacts each.
+CHUNK_EVENT_ROWS = 1 << 20
 
 
 def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
@@ -112,6 +134,8 @@ class World:
         self._observer: RunObserver | None = None
         self._keep = True
         self._events: SequenceChain[CollisionEvent] = SequenceChain()  # the record's, a block per chunk
+        #: How :meth:`run` and :meth:`advance` make each compiled call (``None``: directly).
+        self._calling: Callable[[Callable[[], None]], None] | None = None
         self.record = RunRecord(
             title=scenario.title,
             mode=settings.mode,
@@ -458,8 +482,14 @@ class World:
         and take the ledger's sums and the events."""
         settings = self.scenario.settings
         entry = ("run_contact_steps" if self._solving else "run_exact_steps") if self._exact else "run_steps"
+        call = functools.partial(
+            self._stepper.advance, kernels, settings.dt, settings.restitution, self.step_index, steps
+        )
         with contextlib.nullcontext() if kernels is None else self._first_call(kernels, entry):
-            self._stepper.advance(kernels, settings.dt, settings.restitution, self.step_index, steps)
+            if self._calling is None or not self.compiled:
+                call()
+            else:  # the caller's way (the command line: a thread of its own while it waits for signals)
+                self._calling(call)
         self.step_index += steps
         self.time = self.step_index * settings.dt
         # The stepper's running totals: summed in event order whatever the chunks, so a run's
@@ -520,20 +550,38 @@ class World:
         steps: int,
         between: Callable[[int, int], None] | None = None,
         clock: Callable[[], float] = time.perf_counter,
+        calling: Callable[[Callable[[], None]], None] | None = None,
     ) -> float:
         """:meth:`step` ``steps`` times in chunks of about ``CHUNK_SECONDS`` of compiled work
         (one step at a time in Python form), checking after each that the numbers stay in the
         range that can be simulated and calling ``between(done, steps)`` (where a caller shows
         progress and looks for Ctrl-C). No frames are made. Returns the seconds spent stepping
-        (``clock``'s)."""
+        (``clock``'s). ``calling(call)``, if given, makes each compiled call (``call()``: the
+        stepper's kernels over one chunk) as :meth:`run`'s does."""
         guard = limits.RangeGuard(self.scenario)
         gains = self.scenario.energy_warning() is not None  # e > 1: speeds grow, look every step
         # Balls in a box with e <= 1 stay in their box at speeds their energy bounds: the
         # event-driven stepper then copies its state (O(N)) only at the end, not every chunk.
         watch = gains or not self.event_driven
+        self._calling = calling
+        try:
+            return self._advance_chunks(steps, between, clock, guard, gains, watch)
+        finally:
+            self._calling = None
+
+    def _advance_chunks(
+        self,
+        steps: int,
+        between: Callable[[int, int], None] | None,
+        clock: Callable[[], float],
+        guard: limits.RangeGuard,
+        gains: bool,
+        watch: bool,
+    ) -> float:
         done, chunk, spent = 0, 1, 0.0
         while done < steps:
             count = min(chunk, steps - done)
+            events = self.record.collision_count
             started = clock()
             try:
                 self._steps(count)
@@ -553,9 +601,35 @@ class World:
             if between is not None:
                 between(done, steps)
             if self.compiled and not gains:
-                chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+                chunk = self._next_chunk(chunk, count, took, self.record.collision_count - events)
         self._settle()
         return spent
+
+    def _next_chunk(self, chunk: int, count: int, took: float, events: int) -> int:
+        """Steps for the next compiled call, after one of ``count`` steps (``chunk`` asked) took
+        ``took`` seconds and made ``events`` collision events: as many as would take
+        ``CHUNK_SECONDS`` at the last call's pace (``EXACT_CHUNK_SECONDS`` for the exact steppers
+        of bodies among obstacles, whose steps can slow down a hundredfold at once; not the
+        event-driven one's balls in a box, whose chunks hold ``CHUNK_BODY_STEPS`` body-steps at
+        most too), at most 4 times as many as the last, and about ``CHUNK_EVENT_ROWS`` events
+        at most.
+
+        >>> from collisionlab import Sphere
+        >>> from collisionlab.model import Body, Settings, Scenario
+        >>> euler = World(Scenario(Settings(dt=0.1, steps=10), (Body("b", Sphere((0, 0, 0), 1), (0, 0, 0)),)))
+        >>> euler._next_chunk(16, 16, 0.02, 0), euler._next_chunk(16, 16, 0.5, 0), euler._next_chunk(16, 16, 0.0, 0)
+        (64, 8, 64)
+        >>> euler._next_chunk(64, 64, 0.01, 64 * CHUNK_EVENT_ROWS // 2)  # events: 2 steps' worth at most
+        2
+        """
+        exact = self._exact and not self.event_driven
+        aim = EXACT_CHUNK_SECONDS if exact else CHUNK_SECONDS
+        steps = min(4 * chunk, int(count * aim / took)) if took > 0.0 else 4 * chunk
+        if exact:
+            steps = min(steps, CHUNK_BODY_STEPS // max(self._bodies.n, 1))
+        if events > 0:
+            steps = min(steps, count * CHUNK_EVENT_ROWS // events)
+        return max(1, steps)
 
     def run(
         self,
@@ -563,17 +637,21 @@ class World:
         progress: Callable[[int, int], None] | None = None,
         observer: RunObserver | None = None,
         keep: bool = True,
+        calling: Callable[[Callable[[], None]], None] | None = None,
     ) -> RunRecord:
         """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
         ``progress(done, total)`` is called between chunks of steps. ``observer`` is told every
         frame, event and warning as it is produced (:class:`~collisionlab.record.RunObserver`);
         with ``keep=False`` the record then holds no events and only the first and latest
-        frames (its counts and ledger stay whole), so memory does not grow with the run."""
+        frames (its counts and ledger stay whole), so memory does not grow with the run.
+        ``calling(call)``, if given, makes each compiled call instead of ``call()`` (``call``: the
+        stepper's kernels over one chunk of steps, nothing else): the command line runs it in a
+        thread of its own and waits, ready for a signal, since a chunk cannot be stopped inside."""
         total = self.scenario.settings.steps
         if keep:
             limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
         guard = limits.RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
-        self._observer, self._keep = observer, keep
+        self._observer, self._keep, self._calling = observer, keep, calling
         if not self._exact:
             self._check_tunnelling()  # known before the first frame, so it heads the output
         if observer is not None:
@@ -586,7 +664,7 @@ class World:
         try:
             self._run_chunks(total, every, progress, guard, told)
         finally:
-            self._observer, self._keep = None, True
+            self._observer, self._keep, self._calling = None, True, None
         if observer is not None:
             observer.end(self.record)
         return self.record
@@ -610,6 +688,7 @@ class World:
             to_frame = every - self.step_index % every
             count = min(to_frame, chunk, total - self.step_index)
             framing = count == to_frame or self.step_index + count == total
+            events = self.record.collision_count
             started = time.perf_counter()
             try:
                 self._steps(count)
@@ -630,7 +709,7 @@ class World:
             told = len(self.record.warnings)
             if self.compiled:
                 took = time.perf_counter() - started
-                chunk = max(1, min(4 * chunk, int(count * CHUNK_SECONDS / took) if took > 0.0 else 4 * chunk))
+                chunk = self._next_chunk(chunk, count, took, self.record.collision_count - events)
             if framing:
                 frame = self._frame(positions, velocities)
                 if not self._keep and len(self.record.frames) > 1:
