@@ -694,7 +694,9 @@ def _qp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, first: in
     """The contacts' quadratic program: up to ``first`` iterations of :func:`_mprgp` (which ends a
     stack's in a few), then up to ``then`` of :func:`_apgd` from where it stopped (a heap's).
     Returns whether it converged."""
-    return _mprgp(ca, cb, cf, c, vel, ima, n, first, status) or _apgd(ca, cb, cf, c, vel, ima, n, then, status)
+    if _mprgp(ca, cb, cf, c, vel, ima, n, first, status):
+        return True
+    return then > 0 and _apgd(ca, cb, cf, c, vel, ima, n, then, status)
 
 
 def _apgd(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterations: int, status: Any) -> bool:
@@ -705,7 +707,10 @@ def _apgd(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterati
     (a heap of balls in a lattice has more contacts than degrees of freedom: ``A`` is singular
     and MPRGP spends its iterations restarting) it gains steadily, at three passes over the
     contacts an iteration. ``vel`` holds the velocities of the impulses ``cf[:, 6]`` on entry and
-    on return. Returns whether every projected gradient fell to ``SOLVER_TOLERANCE``."""
+    on return. Returns whether every projected gradient fell to ``SOLVER_TOLERANCE`` (tested at
+    ``y``; the impulses kept are the last projected step's, which ``y`` leads by its momentum step:
+    taking ``y`` instead moved the 400-circle pour's trajectory so that its floor was booked a
+    sideways share of the momentum sleep stopped, 2.6e-3 N s: ``_along_normals``' remainder)."""
     norm = _bound(ca, cb, c, ima, n)
     if norm == 0.0:
         return True
