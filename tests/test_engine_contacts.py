@@ -237,6 +237,28 @@ def test_a_sleeping_pile_wakes_when_a_ball_lands_on_it() -> None:
     assert world.record.events[0].bodies == ("b2", "dropped")
 
 
+def test_a_world_all_asleep_stays_put_while_its_floor_carries_its_weight() -> None:
+    # A column of 3 spheres (1 kg each) sleeps after SLEEP_TIME; from then on a step only books
+    # its weight on the floor: 200 steps more leave every position to the last bit, make no event,
+    # and add 3 m g dt = 3 x 9.81 x 0.01 = 0.2943 N s a step to the floor's impulse, 58.86 N s.
+    world = World(Scenario(settings(400), column(3), (floor_3d(),)))
+    world.step(int(SLEEP_TIME / 0.01) + 10)
+    stepper = world.stepper
+    assert isinstance(stepper, ContactStepper)
+    assert stepper.asleep == 3
+    before = world.position_array.copy()
+    impulses = world.record.static_impulses
+    assert impulses is not None
+    floor = impulses["floor"][1]
+    world.step(200)
+    assert np.array_equal(world.position_array, before)
+    assert world.record.collision_total == 0
+    after = world.record.static_impulses
+    assert after is not None
+    assert after["floor"][1] - floor == pytest.approx(58.86, rel=1e-12)
+    assert after["floor"][0] == 0.0 and after["floor"][2] == 0.0
+
+
 def test_the_compiled_form_steps_as_the_python_form_to_the_last_bit() -> None:
     # 30 circles through their landing (impacts, clusters, solves): the same source both ways.
     worlds = [World(pour(30, 10.0, 120), WorldParams(compiled=compiled)) for compiled in (False, True)]
