@@ -95,13 +95,15 @@ class Species:
             )
         fraction = _species_number(self.fraction, "fraction", self.name)
         if not 0.0 < fraction <= 1.0:
-            raise InvalidInputError("species", f"{self.name}: FRACTION must be in (0, 1]", got=fraction)
+            raise InvalidInputError(
+                "species", f"{self.name}: FRACTION must be in (0, 1] (expected {SPECIES_FORM})", got=fraction
+            )
         radius = _species_number(self.radius, "radius", self.name)
         if radius <= 0.0:
-            raise InvalidInputError("species", f"{self.name}: RADIUS must be > 0", got=radius)
+            raise InvalidInputError("species", f"{self.name}: RADIUS must be > 0 (expected {SPECIES_FORM})", got=radius)
         mass = None if self.mass is None else _species_number(self.mass, "mass", self.name)
         if mass is not None and mass <= 0.0:
-            raise InvalidInputError("species", f"{self.name}: MASS must be > 0", got=mass)
+            raise InvalidInputError("species", f"{self.name}: MASS must be > 0 (expected {SPECIES_FORM})", got=mass)
         return Species(self.name, fraction, radius, mass)
 
     def mass_in(self, dim: int) -> float:
@@ -113,7 +115,9 @@ def _species_number(value: object, what: str, name: str) -> float:
     try:
         return finite_number(value, "species")
     except InvalidInputError:
-        raise InvalidInputError("species", f"{name}: {what.upper()} must be a finite number", got=value) from None
+        raise InvalidInputError(
+            "species", f"{name}: {what.upper()} must be a finite number (expected {SPECIES_FORM})", got=value
+        ) from None
 
 
 def parse_species(text: str) -> Species:
@@ -223,11 +227,13 @@ class ExactGas:
         names = [sp.name for sp in species]
         twice = sorted({name for name in names if names.count(name) > 1})
         if twice:
-            raise InvalidInputError("species", "names must differ", got=", ".join(twice))
+            raise InvalidInputError(
+                "species", f"each NAME once (expected {SPECIES_FORM}, repeated)", got=", ".join(twice)
+            )
         total = math.fsum(sp.fraction for sp in species)
         if abs(total - 1.0) > FRACTION_SUM_TOLERANCE:
             raise InvalidInputError(
-                "species", f"the FRACTIONs must sum to 1 (within {FRACTION_SUM_TOLERANCE:g})", got=total
+                "species", f"the FRACTIONs must sum to 1, within {FRACTION_SUM_TOLERANCE:g} ({SPECIES_FORM})", got=total
             )
         species = tuple(Species(sp.name, sp.fraction / total, sp.radius, sp.mass) for sp in species)
         for sp, count in zip(species, species_counts(species, n), strict=True):
@@ -386,6 +392,7 @@ def run_exact_gas(
     write_frame: FrameWriter | None = None,
     calling: Callable[[Callable[[], None]], None] | None = None,
     sink: EventSink | None = None,
+    balls: EventDrivenWorld | None = None,
 ) -> dict[str, Any]:
     """Run ``gas`` on the engine's world (``world``, fresh from ``World(gas.scenario())``, or one
     made now) for ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``.
@@ -397,7 +404,8 @@ def run_exact_gas(
 
     A mixture (``gas.species``) runs on its :class:`EventDrivenWorld` alone, the same loop
     (the engine's event-driven scenarios hold one radius and mass): ``world``, ``frames`` and
-    ``write_frame`` do not apply (no trajectory yet), and ``sink`` receives its collisions
+    ``write_frame`` do not apply (no trajectory yet), ``balls`` is its world if made already
+    (fresh from ``gas.world()``), and ``sink`` receives its collisions
     (:meth:`EventDrivenWorld.run`'s blocks; the engine's world streams a scenario's itself)."""
     from ..engine.event_stepper import EventDrivenStepper
     from ..engine.world import World
@@ -406,7 +414,7 @@ def run_exact_gas(
     if gas.species:
         if write_frame is not None and frames > 0:
             raise InvalidInputError("trajectory", "is not available for a mixture yet (its files hold one radius)")
-        return _run_mixture(gas, between, calling, sink)
+        return _run_mixture(gas, gas.world() if balls is None else balls, between, calling, sink)
     world = World(gas.scenario(), events=False) if world is None else world
     stepper = world.stepper
     if not isinstance(stepper, EventDrivenStepper):
@@ -443,6 +451,7 @@ def run_exact_gas(
 
 def _run_mixture(
     gas: ExactGas,
+    balls: EventDrivenWorld,
     between: Callable[[int, int], None] | None,
     calling: Callable[[Callable[[], None]], None] | None,
     sink: EventSink | None,
@@ -454,7 +463,6 @@ def _run_mixture(
 
     from .guard import RunGuard
 
-    balls = gas.world()
     guard = RunGuard(balls)
     energy_start = balls.kinetic_energy() + balls.potential_energy()
     dt = gas.time / FRAMES

@@ -218,12 +218,13 @@ class EventDrivenWorld:
         self.F[:, L.RADIUS] = radii[self.order]
         self.F[:, L.MASS] = masses[self.order]
         count = int(kinds.max()) + 1
-        # Counted by species only when there are several (one kind: the total is the count).
-        self.S = kinds[self.order].astype(np.int32) if count > 1 else np.zeros(0, dtype=np.int32)
-        self.KS = np.zeros((count, count) if count > 1 else (0, 0), dtype=np.int64)
+        # Counted by species when there are several or they were named (else the totals tell).
+        counted = count > 1 or species is not None
+        self.S = kinds[self.order].astype(np.int32) if counted else np.zeros(0, dtype=np.int32)
+        self.KS = np.zeros((count, count) if counted else (0, 0), dtype=np.int64)
         self.species_count = count
-        self.SE = np.zeros((count, 3) if count > 1 else (0, 3))
-        if count > 1:  # each species' kinetic energy at the start (its integral starts at time 0)
+        self.SE = np.zeros((count, 3) if counted else (0, 3))
+        if counted:  # each species' kinetic energy at the start (its integral starts at time 0)
             energy = 0.5 * masses * np.einsum("ij,ij->i", vel, vel)
             self.SE[:, 0] = np.bincount(kinds, weights=energy, minlength=count)
         del pos, vel  # (a wrapped copy of) the inputs, now in F: not held through the start
