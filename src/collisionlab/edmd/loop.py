@@ -120,6 +120,62 @@ def _advance(F: Any, i: int, now: float, g: float) -> None:
 
 
 @jit_inline
+def _soonest_pair(
+    F: Any,
+    IX: Any,
+    NB: Any,
+    P: Any,
+    i: int,
+    now: float,
+    tmin: float,
+    kind: int,
+    partner: int,
+    wrap: bool,
+    dim: int,
+    mixed: bool,
+) -> tuple[float, int, int]:
+    """The soonest contact of ``i`` with a neighbour, if sooner than ``tmin`` (then kind
+    ``KIND_PAIR`` and the neighbour); else ``tmin``, ``kind`` and ``partner`` as given."""
+    g = P[P_G]
+    half_g = 0.5 * g
+    xi = F[i, X]
+    yi = F[i, X + 1]
+    zi = F[i, X + 2]
+    vx = F[i, V]
+    vy = F[i, V + 1]
+    vz = F[i, V + 2]
+    ri = F[i, RADIUS]
+    sigma = ri + ri
+    sigma2 = sigma * sigma
+    for m in range(IX[i, NNB]):
+        j = NB[i, m]
+        dt = now - F[j, T]
+        dx = xi - (F[j, X] + F[j, V] * dt)
+        dz = zi - (F[j, X + 2] + F[j, V + 2] * dt)
+        if g == 0.0:  # the common case, without the parabola's terms
+            dy = yi - (F[j, X + 1] + F[j, V + 1] * dt)
+            dvy = vy - F[j, V + 1]
+        else:
+            dy = yi - (F[j, X + 1] + (F[j, V + 1] - half_g * dt) * dt)
+            dvy = vy - (F[j, V + 1] - g * dt)
+        if wrap:
+            dx = nearest_image(dx, P[P_L])
+            dy = nearest_image(dy, P[P_L + 1])
+            if dim == 3:
+                dz = nearest_image(dz, P[P_L + 2])
+        if mixed:  # each pair its own contact distance (the radius is on the row's second line)
+            contact = ri + F[j, RADIUS]
+            t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], contact * contact)
+        else:
+            t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
+        if t < tmin:
+            tmin = t
+            kind = KIND_PAIR
+            partner = j
+    return tmin, kind, partner
+
+
+@jit_inline
 def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
     """Schedule body ``i``'s next event (``i`` holds at ``now``): the soonest of leaving its
     list, hitting a wall, or hitting a neighbour."""
@@ -164,34 +220,11 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
                 tmin = t
                 kind = KIND_WALL
                 partner = wall
-    sigma = ri + ri
-    sigma2 = sigma * sigma
     wrap = periodic and IX[i, EDGE] != 0
-    half_g = 0.5 * g
-    for m in range(IX[i, NNB]):
-        j = NB[i, m]
-        dt = now - F[j, T]
-        dx = xi - (F[j, X] + F[j, V] * dt)
-        dz = zi - (F[j, X + 2] + F[j, V + 2] * dt)
-        if g == 0.0:  # the common case, without the parabola's terms
-            dy = yi - (F[j, X + 1] + F[j, V + 1] * dt)
-            dvy = vy - F[j, V + 1]
-        else:
-            dy = yi - (F[j, X + 1] + (F[j, V + 1] - half_g * dt) * dt)
-            dvy = vy - (F[j, V + 1] - g * dt)
-        if wrap:
-            dx = nearest_image(dx, P[P_L])
-            dy = nearest_image(dy, P[P_L + 1])
-            if dim == 3:
-                dz = nearest_image(dz, P[P_L + 2])
-        if mixed:  # each pair its own contact distance (its radius is on the row's second line)
-            sigma = ri + F[j, RADIUS]
-            sigma2 = sigma * sigma
-        t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
-        if t < tmin:
-            tmin = t
-            kind = KIND_PAIR
-            partner = j
+    if mixed:
+        tmin, kind, partner = _soonest_pair(F, IX, NB, P, i, now, tmin, kind, partner, wrap, dim, True)
+    else:  # one kind of ball: no radius read (the same loop compiled apart, without the branch)
+        tmin, kind, partner = _soonest_pair(F, IX, NB, P, i, now, tmin, kind, partner, wrap, dim, False)
     if tmin == math.inf:
         IX[i, KIND] = KIND_NONE
         IX[i, HPOS] = NB_UNSCHEDULED
@@ -311,10 +344,15 @@ def _collide(
     mj = F[j, MASS]
     # The contact law (collisionlab.engine.geometry_kernels): along n = (x_j - x_i) / r, i
     # approaches j at v_n = b / r < 0; j = -(1 + e) v_n / (1/m_i + 1/m_j), i gets -j n / m_i, j
-    # gets +j n / m_j (lab eqs. 12, 15). (1/m + 1/m is exactly 2/m: one mass, the same numbers.)
-    impulse = impulse_magnitude(b / r, 1.0 / mi + 1.0 / mj, e)
-    fi = impulse / (mi * r)  # per unit of -(x_i - x_j): the change of i's velocity along dx
-    fj = impulse / (mj * r)
+    # gets +j n / m_j (lab eqs. 12, 15).
+    if mi == mj:  # one division fewer each way
+        impulse = impulse_magnitude(b / r, 2.0 / mi, e)
+        fi = impulse / (mi * r)  # per unit of -(x_i - x_j): the change of i's velocity along dx
+        fj = fi
+    else:
+        impulse = impulse_magnitude(b / r, 1.0 / mi + 1.0 / mj, e)
+        fi = impulse / (mi * r)
+        fj = impulse / (mj * r)
     row = -1
     if buf.shape[0] > 0:
         row = _record(buf, K, now, i, j, impulse)
