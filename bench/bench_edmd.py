@@ -11,6 +11,7 @@ per second of its whole program as ``run.sh`` times it (its set-up is a small pa
     python3 tasks.py bench-edmd              # everything (about 10 minutes on 2 cores)
     python bench/bench_edmd.py --quick       # N = 4,000 only
     python bench/bench_edmd.py --one '{"dim": 3, "n": 4000, "fraction": 0.25, "time": 20}'
+    python bench/bench_edmd.py --mixtures    # a binary mixture: speed against one kind, BMCSL, kT
 
 Not a test: it prints numbers (recorded in bench/README.md).
 """
@@ -51,12 +52,15 @@ WORKLOADS: list[tuple[int, int, float, float, bool]] = [
 
 def run_ours(spec: dict[str, Any]) -> dict[str, Any]:
     """One run in this process: build, compile (cached), run, report."""
-    from collisionlab.edmd.observables import ExactGas
+    from collisionlab.edmd.observables import ExactGas, Species
 
     ExactGas(n=500, dim=spec["dim"], fraction=0.2, boundary="periodic").world().run(0.1)  # load the compiled loop
     rss_before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
     began = time.perf_counter()
-    world = ExactGas(n=spec["n"], dim=spec["dim"], fraction=spec["fraction"], boundary="periodic").world()
+    species = tuple(Species(*s) for s in spec.get("species", ()))
+    world = ExactGas(
+        n=spec["n"], dim=spec["dim"], fraction=spec["fraction"], boundary="periodic", species=species
+    ).world()
     setup = time.perf_counter() - began
     energy = world.kinetic_energy()
     began = time.perf_counter()
@@ -77,8 +81,58 @@ def run_ours(spec: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def ours(dim: int, n: int, fraction: float, time_: float) -> dict[str, Any]:
-    spec = json.dumps({"dim": dim, "n": n, "fraction": fraction, "time": time_})
+#: ``--mixtures``: the issue's binary (radii 1 and 0.5, half of each by number, masses by volume).
+BINARY = [["big", 0.5, 1.0], ["small", 0.5, 0.5]]
+
+
+def mixtures(repeats: int) -> None:
+    """A binary mixture against one kind of ball, each in a fresh process, alternating: time per
+    collision (medians of ``repeats``); then the issue's check at N = 4,000, fraction 0.3: Z
+    against BMCSL, the species' kT (averaged over the run), Enskog's pair rates."""
+    from collisionlab.edmd.observables import ExactGas, Species, species_counts
+    from collisionlab.edmd.theory import bmcsl, disc_mixture, enskog_pair_rates
+
+    print("| workload | one kind, collisions/s | binary, collisions/s | time per collision, binary / one kind |")
+    print("|---|---:|---:|---:|")
+    for dim, time_ in ((3, 20.0), (2, 40.0)):
+        one, two = [], []
+        for _ in range(repeats):
+            one.append(ours(dim, 4000, 0.3, time_)["collisions_per_s"])
+            two.append(ours(dim, 4000, 0.3, time_, BINARY)["collisions_per_s"])
+        ratio = statistics.median(one) / statistics.median(two)
+        print(f"| {dim}D N=4,000 eta=0.3 | {spread(one)} | {spread(two)} | {ratio:.2f}x |")
+    for dim, window in ((3, 400.0), (2, 600.0)):
+        species = tuple(Species(*s) for s in BINARY)
+        gas = ExactGas(n=4000, dim=dim, fraction=0.3, boundary="periodic", species=species).checked()
+        world = gas.world()
+        relax = 5.0
+        world.run(relax)
+        a, ea = world.tally(), world.species_mean_energy() * relax
+        world.run(relax + window)
+        b, eb = world.tally(), world.species_mean_energy() * (relax + window)
+        counts = species_counts(gas.species, gas.n)
+        kts = [2.0 * (eb[k] - ea[k]) / window / (dim * counts[k]) for k in range(2)]
+        kt = sum(c * k for c, k in zip(counts, kts, strict=True)) / gas.n
+        z = 1.0 + (b.virial - a.virial) / (dim * gas.n * kt * window)
+        x = [c / gas.n for c in counts]
+        theory = bmcsl(x, [2.0, 1.0], 0.3) if dim == 3 else disc_mixture(x, [2.0, 1.0], 0.3)
+        masses = [sp.mass_in(dim) for sp in species]
+        enskog = enskog_pair_rates(x, [2.0, 1.0], masses, 0.3, dim, kt)
+        hits = [[b.species_collisions[i][j] - a.species_collisions[i][j] for j in range(2)] for i in range(2)]
+        rates = " ".join(
+            f"{gas.species[i].name}->{gas.species[j].name} {hits[i][j] / (counts[i] * window) / enskog[i][j] - 1:+.2%}"
+            for i in range(2)
+            for j in range(2)
+        )
+        print(
+            f"{dim}D binary, N = 4,000, eta 0.3, window {window:g}: Z {z:.5f}, theory {theory:.5f} "
+            f"({z / theory - 1:+.3%}); kT big {kts[0]:.5f}, small {kts[1]:.5f} ({kts[1] / kts[0] - 1:+.3%}); "
+            f"pair rates against Enskog: {rates}; {b.pair_collisions - a.pair_collisions:,} collisions"
+        )
+
+
+def ours(dim: int, n: int, fraction: float, time_: float, species: list[list[Any]] | None = None) -> dict[str, Any]:
+    spec = json.dumps({"dim": dim, "n": n, "fraction": fraction, "time": time_, "species": species or []})
     out = subprocess.run([sys.executable, __file__, "--one", spec], capture_output=True, text=True, check=True)
     return dict(json.loads(out.stdout.strip().splitlines()[-1]))
 
@@ -101,10 +155,14 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--quick", action="store_true", help="N = 4,000 only")
     parser.add_argument("--no-peer", action="store_true", help="ours only")
+    parser.add_argument("--mixtures", action="store_true", help="a binary mixture against one kind of ball")
     parser.add_argument("--one", help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.one:
         print(json.dumps(run_ours(json.loads(args.one))))
+        return
+    if args.mixtures:
+        mixtures(args.repeats)
         return
     workloads = [w for w in WORKLOADS if w[1] == 4000] if args.quick else WORKLOADS
     with_peer = not args.no_peer and PEER.exists()

@@ -47,6 +47,7 @@ _FLAGS = {
     "events": "--events",
     "trajectory": "--trajectory",
     "frames": "--frames",
+    "species": "--species",
 }
 #: ``--mode``: the time-stepped world (default) or the event-driven, exact one.
 _MODES = ("stepped", "exact")
@@ -117,6 +118,13 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         "--tc", type=float, default=None, help="TC model: a collision sooner than this after the last is elastic"
     )
     exact.add_argument("--events", metavar="FILE", help="stream every collision to FILE.csv or FILE.jsonl")
+    exact.add_argument(
+        "--species",
+        action="append",
+        metavar="NAME:FRACTION:RADIUS[:MASS]",
+        help="a mixture: one species (repeat for each), FRACTION of the balls by number, its RADIUS and MASS "
+        "(default radius^dim: a ball of radius 1 weighs 1); --fraction is then the packing fraction of all",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar and no notes on stderr")
     parser.set_defaults(func=run)
 
@@ -192,9 +200,28 @@ def _exact_table(report: dict[str, Any]) -> list[str]:
         f"  max overlap      {report['max_overlap']:.3e} diameters",
         f"  memory           {report['bytes_per_body']:.0f} bytes per ball",
     ]
+    lines += _species_lines(report)
     if report.get("events_file"):
         lines.append(f"  events           {report['events_file']}")
     lines += _trajectory_line(report)
+    return lines
+
+
+def _species_lines(report: dict[str, Any]) -> list[str]:
+    """A mixture's lines: each species, then each ordered pair's collision rate."""
+    lines = [
+        f"  species {sp['name']:<8} {sp['count']:,} balls, radius {sp['radius']:g}, mass {sp['mass']:g}, "
+        f"kT {sp['kT']:.6g}"
+        for sp in report.get("species", ())
+    ]
+    for pair in report.get("pair_collision_rates", ()):
+        theory = pair["rate_enskog"]
+        a, b = pair["species"]
+        lines.append(
+            f"  rate {a} -> {b} ".ljust(19)
+            + f"{pair['rate']:.5g} per {a} ball per unit time"
+            + (f", Enskog {theory:.5g}" if theory is not None else "")
+        )
     return lines
 
 
@@ -242,13 +269,16 @@ def _cannot_write(streams: Streams, args: argparse.Namespace, err: OSError) -> i
 
 def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.events_file import event_file, event_format
-    from ..edmd.observables import FRAMES, ExactGas, run_exact_gas
+    from ..edmd.observables import FRAMES, ExactGas, parse_species, run_exact_gas
     from ..trajectory import steps_for_frames
 
     notes = not args.quiet
     try:
         if args.plot is not None:
             raise InvalidInputError("plot", "is not available with --mode exact")
+        species = tuple(parse_species(text) for text in args.species or ())
+        if species and args.trajectory is not None:
+            raise InvalidInputError("trajectory", "is not available with --species yet (its files hold one radius)")
         gas = ExactGas(
             n=args.n,
             dim=args.dim,
@@ -259,6 +289,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
             restitution=args.restitution,
             gravity=args.gravity,
             tc=args.tc,
+            species=species,
         ).checked()
         if _kernels(args) == "python":
             raise InvalidInputError(
@@ -271,6 +302,8 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         # before any file is opened.
         # (In a thread of its own: a signal stops the command at once, even inside LLVM's calls.)
         compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
+        if species:  # a mixture runs on its event-driven world alone (run_exact_gas)
+            return _run_mixture(args, streams, gas, compile_seconds)
         steps = steps_for_frames(FRAMES, frames) if frames else FRAMES  # a frame ends a step
         world = World(gas.scenario(steps), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
@@ -307,10 +340,54 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     return 0
 
 
+def _run_mixture(args: argparse.Namespace, streams: Streams, gas: Any, compile_seconds: float) -> int:
+    """``--mode exact --species ...``: the mixture's world made (its start checked), run and
+    reported as the exact gas is, its collisions streamed to ``--events`` if asked."""
+    from ..edmd.events_file import rows_file
+    from ..edmd.observables import run_exact_gas
+
+    notes = not args.quiet
+    try:
+        balls = gas.world()  # the start checked (a lattice that fits) before any file is opened
+    except InvalidInputError as err:
+        return _bad_value(streams, err)
+    except MemoryError:
+        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
+        return 1
+    if gas.restitution > 1.0:
+        streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+    bar = ProgressBar(streams, label="gas time")
+    try:
+        with deferred_interrupts() as pending:
+            watch = ChunkWatch(pending, bar if notes else None)
+            with contextlib.ExitStack() as files:
+                sink = files.enter_context(rows_file(args.events)) if args.events is not None else None
+                report = run_exact_gas(gas, None, watch.between, calling=watch.call, sink=sink, balls=balls)
+            if args.events is not None:
+                report["events_file"] = args.events
+        report["compile_seconds"] = compile_seconds
+    except OutOfRangeError as err:
+        streams.err(f"{_PROG}: {err}")
+        return 65
+    except OSError as err:
+        return _cannot_write(streams, args, err)
+    finally:
+        bar.close()
+    if args.format == "json":
+        streams.out(json.dumps(report))
+    else:
+        for line in _exact_table(report):
+            streams.out(line)
+    return 0
+
+
 def run(args: argparse.Namespace, streams: Streams) -> int:
     """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure."""
     if args.mode == "exact":
         return _run_exact(args, streams)
+    if args.species:
+        streams.err(f"{_PROG}: --species: needs --mode exact (the stepped gas holds balls of one radius and mass)")
+        return 2
     from ..trajectory import advance_in_frames, frame_steps
 
     notes = not args.quiet

@@ -4,7 +4,9 @@ Each body keeps a list of the bodies whose list centres were within ``P_CUT`` (t
 to 2 diameters, see ``world.shell_for``; Smallenburg's ``1 + alpha``) of its own when its list
 was last built, and an event to rebuild it when it has drifted ``P_SKIN = (P_CUT - sigma) / 2`` from its centre.
 Two bodies not on each other's lists are then always more than ``P_CUT - 2 P_SKIN = sigma``
-apart: they cannot collide, and only neighbours are ever tested.
+apart: they cannot collide, and only neighbours are ever tested. In a mixture each body's skin
+is ``P_CUT / 2 - r_i``: two bodies off each other's lists stay ``r_i + r_j`` apart, whatever
+their sizes (``P_CUT`` exceeds the largest contact distance, the sum of the two largest radii).
 
 Building one list looks through the 3^dim cells around the body's centre (cells at least
 ``P_CUT`` wide), so it costs O(1) per body; the lists are kept symmetric (``j`` on ``i``'s list

@@ -17,15 +17,18 @@ from __future__ import annotations
 
 import contextlib
 import json
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TextIO
+
+import numpy as np
+from numpy.typing import NDArray
 
 from ..atomic import atomic_stream
 from ..errors import InvalidInputError
 from ..record import CollisionEvent, EventBlock, Frame, RunRecord, SkippedContact
 
-__all__ = ["EVENT_FORMATS", "EventsFile", "event_file", "event_format", "wall_name"]
+__all__ = ["EVENT_FORMATS", "EventsFile", "event_file", "event_format", "rows_file", "wall_name"]
 
 #: File extensions and the format each means.
 EVENT_FORMATS: dict[str, str] = {".csv": "csv", ".jsonl": "jsonl", ".ndjson": "jsonl"}
@@ -72,17 +75,37 @@ class EventsFile:
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         if not isinstance(events, EventBlock):
             raise TypeError("an events file is written from a world's event blocks")
-        a, b = events.a.tolist(), events.b.tolist()
+        self._write(events.time.tolist(), events.a.tolist(), events.b.tolist(), events.impulse.tolist())
+
+    def rows(self, block: NDArray[np.float64]) -> None:
+        """Write a block of :meth:`EventDrivenWorld.run <collisionlab.edmd.world.EventDrivenWorld.run>`'s
+        rows (time, a, b or ``-1 - wall``, impulse): as the engine orders a pair, the lower
+        index first (a mixture, run on its world alone, writes its events through this)."""
+        a = block[:, 1].astype(np.int64)
+        b = block[:, 2].astype(np.int64)
+        low = np.where(b < 0, b, np.minimum(a, b))  # a wall (negative) first, as the engine's rows
+        high = np.where(b < 0, a, np.maximum(a, b))
+        self._write(block[:, 0].tolist(), low.tolist(), high.tolist(), block[:, 3].tolist())
+
+    def _write(self, times: list[float], a: list[int], b: list[int], impulses: list[float]) -> None:
         wall = [x < 0 for x in a]
         first = [y if w else x for x, y, w in zip(a, b, wall, strict=True)]
         second: list[int | str] = [wall_name(x) if w else y for x, y, w in zip(a, b, wall, strict=True)]
-        rows = zip(events.time.tolist(), first, second, events.impulse.tolist(), strict=True)
+        rows = zip(times, first, second, impulses, strict=True)
         if self._kind == "csv":
             self._out.write("".join(f"{t!r},{i},{j},{p!r}\n" for t, i, j, p in rows))
         else:
             self._out.write(
                 "".join(json.dumps({"time": t, "pair": [i, j], "impulse": p}) + "\n" for t, i, j, p in rows)
             )
+
+
+@contextlib.contextmanager
+def rows_file(path: str | Path) -> Iterator[Callable[[NDArray[np.float64]], None]]:
+    """:func:`event_file` as an :data:`~collisionlab.edmd.world.EventSink`: the writer of
+    :meth:`EventsFile.rows`."""
+    with event_file(path) as events:
+        yield events.rows
 
 
 @contextlib.contextmanager

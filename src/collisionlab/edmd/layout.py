@@ -9,7 +9,8 @@ The constants are module globals; numba freezes them into the compiled code.
 ``F``      position (``X..X+2``), velocity (``V..V+2``), time ``T`` at which position and
            velocity hold, collision counter ``COUNT``, neighbour-list centre (``C..C+2``),
            time ``TLAST`` of the last collision (the TC model), scheduled event time ``EVT``,
-           the partner's counter when the event was scheduled ``PCOUNT``
+           the partner's counter when the event was scheduled ``PCOUNT``, the body's
+           ``RADIUS`` and ``MASS`` (a mixture: each body its own)
 ``IX``      ``PARTNER`` (body, or wall ``0 .. 2 dim - 1``), event ``KIND``, the
            ``CELL`` its list centre lies in, calendar links ``HPOS, QID, QNEXT, QPREV``,
            neighbour count ``NNB``, ``EDGE`` (cell on a periodic face)
@@ -19,6 +20,10 @@ The constants are module globals; numba freezes them into the compiled code.
 ``P``      float parameters (``P_*``); ``Q`` int parameters (``Q_*``)
 ``G``      float accumulators (``G_*``); ``K`` int64 counters (``K_*``)
 ``buf``    events as they happen, ``EVENT_BRIEF`` or ``EVENT_FULL`` columns
+``S``      each body's species (int32; empty when there is one); ``KS[a, b]`` (int64) the
+           collisions of a body of ``a`` with one of ``b``, counted once for each body of ``a``
+           in it (a pair of one species counts twice); ``SE[a]`` species ``a``'s kinetic
+           energy, the time since which it holds, and its integral over time up to then
 =========  ==============================================================================
 
 Walls are numbered ``2 k`` (the low side of axis ``k``) and ``2 k + 1`` (the high side).
@@ -55,6 +60,7 @@ __all__ = [
     "K_PAIRS",
     "K_STALE",
     "K_WALLS",
+    "MASS",
     "NB_UNSCHEDULED",
     "NF",
     "NG",
@@ -71,7 +77,7 @@ __all__ = [
     "P_G",
     "P_INV_H",
     "P_L",
-    "P_MASS",
+    "P_MIXED",
     "P_RADIUS",
     "P_REACH",
     "P_SKIN",
@@ -83,6 +89,7 @@ __all__ = [
     "Q_NB",
     "Q_NC",
     "Q_PERIODIC",
+    "RADIUS",
     "TLAST",
     "C",
     "T",
@@ -97,6 +104,8 @@ __all__ = [
 # row: 96-byte rows put every other row's across two, and with a million bodies every
 # neighbour's row is a cache miss (1M, T = 4: 257 k collisions/s against 214 k/s with 96-byte
 # rows); the counters were in IX, one more miss for the partner's (1M: 216 k/s against 198 k/s).
+# A mixture's radius and mass fill the second line: a prediction reads a neighbour's radius only
+# when the radii differ (``P_MIXED``), so one kind of ball reads what it read before.
 X = 0
 V = 3
 T = 6
@@ -105,7 +114,9 @@ C = 8
 TLAST = 11
 EVT = 12
 PCOUNT = 13  # the partner's COUNT when the event was scheduled
-NF = 16  # columns 14-15 unused (the row's length, see above)
+RADIUS = 14
+MASS = 15
+NF = 16
 
 # IX: int32 per body
 PARTNER = 0
@@ -130,8 +141,8 @@ KIND_NLIST = 3
 
 # P: float parameters
 P_L = 0  # box sides, 3 values
-P_RADIUS = 3
-P_MASS = 4
+P_RADIUS = 3  # the largest radius (each body's own is F[i, RADIUS])
+P_MIXED = 4  # 1.0 when the radii differ: a pair's contact distance is then r_i + r_j, read per pair
 P_E = 5  # restitution
 P_TC = 6  # TC model: a collision within this time of a body's previous one is elastic
 P_G = 7  # gravity, along -y

@@ -6,10 +6,12 @@ event and handles it:
 
 * a **pair** collision with ``j``: if ``j`` has collided since the event was scheduled (its
   counter moved on) the event is stale and ``i`` is only predicted again; otherwise both are
-  moved to the moment of contact and given the impulse of the engine's contact law along the
-  line of centres (:func:`~collisionlab.engine.geometry_kernels.impulse_magnitude`,
-  ``j = -(1 + e) v_n / (1/m + 1/m)``, ``v_n = r . v_ij / |r|``), the same change ``j / m`` for
-  both, so momentum is kept exactly;
+  moved to the moment of contact (``|r| = r_i + r_j``) and given the impulse of the engine's
+  contact law along the line of centres
+  (:func:`~collisionlab.engine.geometry_kernels.impulse_magnitude`,
+  ``j = -(1 + e) v_n / (1/m_i + 1/m_j)``, ``v_n = r . v_ij / |r|``), the changes ``-j / m_i``
+  and ``+j / m_j`` along it, so momentum is kept (a mixture's balls each have their own radius
+  and mass, ``F[i, RADIUS]`` and ``F[i, MASS]``: one loop for one kind of ball or many);
 * a **wall**: the same law with the wall's infinite mass, ``-e`` times the velocity across it;
 * a **neighbour-list** event: ``i``'s list is built again around its present position;
 
@@ -64,21 +66,23 @@ from .layout import (
     KIND_NONE,
     KIND_PAIR,
     KIND_WALL,
+    MASS,
     NB_UNSCHEDULED,
     NF,
     NI,
     NNB,
+    P_CUT,
     P_E,
     P_G,
     P_L,
-    P_MASS,
-    P_RADIUS,
+    P_MIXED,
     P_SKIN,
     P_TC,
     PARTNER,
     PCOUNT,
     Q_DIM,
     Q_PERIODIC,
+    RADIUS,
     TLAST,
     C,
     T,
@@ -116,6 +120,62 @@ def _advance(F: Any, i: int, now: float, g: float) -> None:
 
 
 @jit_inline
+def _soonest_pair(
+    F: Any,
+    IX: Any,
+    NB: Any,
+    P: Any,
+    i: int,
+    now: float,
+    tmin: float,
+    kind: int,
+    partner: int,
+    wrap: bool,
+    dim: int,
+    mixed: bool,
+) -> tuple[float, int, int]:
+    """The soonest contact of ``i`` with a neighbour, if sooner than ``tmin`` (then kind
+    ``KIND_PAIR`` and the neighbour); else ``tmin``, ``kind`` and ``partner`` as given."""
+    g = P[P_G]
+    half_g = 0.5 * g
+    xi = F[i, X]
+    yi = F[i, X + 1]
+    zi = F[i, X + 2]
+    vx = F[i, V]
+    vy = F[i, V + 1]
+    vz = F[i, V + 2]
+    ri = F[i, RADIUS]
+    sigma = ri + ri
+    sigma2 = sigma * sigma
+    for m in range(IX[i, NNB]):
+        j = NB[i, m]
+        dt = now - F[j, T]
+        dx = xi - (F[j, X] + F[j, V] * dt)
+        dz = zi - (F[j, X + 2] + F[j, V + 2] * dt)
+        if g == 0.0:  # the common case, without the parabola's terms
+            dy = yi - (F[j, X + 1] + F[j, V + 1] * dt)
+            dvy = vy - F[j, V + 1]
+        else:
+            dy = yi - (F[j, X + 1] + (F[j, V + 1] - half_g * dt) * dt)
+            dvy = vy - (F[j, V + 1] - g * dt)
+        if wrap:
+            dx = nearest_image(dx, P[P_L])
+            dy = nearest_image(dy, P[P_L + 1])
+            if dim == 3:
+                dz = nearest_image(dz, P[P_L + 2])
+        if mixed:  # each pair its own contact distance (the radius is on the row's second line)
+            contact = ri + F[j, RADIUS]
+            t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], contact * contact)
+        else:
+            t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
+        if t < tmin:
+            tmin = t
+            kind = KIND_PAIR
+            partner = j
+    return tmin, kind, partner
+
+
+@jit_inline
 def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, i: int, now: float) -> None:
     """Schedule body ``i``'s next event (``i`` holds at ``now``): the soonest of leaving its
     list, hitting a wall, or hitting a neighbour."""
@@ -126,13 +186,19 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
     vx = F[i, V]
     vy = F[i, V + 1]
     vz = F[i, V + 2]
-    tmin = leave_time(xi - F[i, C], yi - F[i, C + 1], zi - F[i, C + 2], vx, vy, vz, g, P[P_SKIN])
+    ri = F[i, RADIUS]
+    mixed = P[P_MIXED] != 0.0
+    # How far i may drift from its list's centre: two bodies off each other's lists, centres at
+    # least P_CUT apart, stay r_i + r_j apart if the skins sum to P_CUT - r_i - r_j; so each
+    # body's own skin is P_CUT / 2 - r_i (the small, fast balls of a mixture get the larger).
+    skin = 0.5 * P[P_CUT] - ri if mixed else P[P_SKIN]
+    tmin = leave_time(xi - F[i, C], yi - F[i, C + 1], zi - F[i, C + 2], vx, vy, vz, g, skin)
     kind = KIND_NLIST
     partner = -1
     dim = Q[Q_DIM]
     periodic = Q[Q_PERIODIC] != 0
     if not periodic:
-        r = P[P_RADIUS]
+        r = ri
         for k in range(dim):
             lo = r
             hi = P[P_L + k] - r
@@ -154,31 +220,11 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
                 tmin = t
                 kind = KIND_WALL
                 partner = wall
-    sigma = 2.0 * P[P_RADIUS]
-    sigma2 = sigma * sigma
     wrap = periodic and IX[i, EDGE] != 0
-    half_g = 0.5 * g
-    for m in range(IX[i, NNB]):
-        j = NB[i, m]
-        dt = now - F[j, T]
-        dx = xi - (F[j, X] + F[j, V] * dt)
-        dz = zi - (F[j, X + 2] + F[j, V + 2] * dt)
-        if g == 0.0:  # the common case, without the parabola's terms
-            dy = yi - (F[j, X + 1] + F[j, V + 1] * dt)
-            dvy = vy - F[j, V + 1]
-        else:
-            dy = yi - (F[j, X + 1] + (F[j, V + 1] - half_g * dt) * dt)
-            dvy = vy - (F[j, V + 1] - g * dt)
-        if wrap:
-            dx = nearest_image(dx, P[P_L])
-            dy = nearest_image(dy, P[P_L + 1])
-            if dim == 3:
-                dz = nearest_image(dz, P[P_L + 2])
-        t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
-        if t < tmin:
-            tmin = t
-            kind = KIND_PAIR
-            partner = j
+    if mixed:
+        tmin, kind, partner = _soonest_pair(F, IX, NB, P, i, now, tmin, kind, partner, wrap, dim, True)
+    else:  # one kind of ball: no radius read (the same loop compiled apart, without the branch)
+        tmin, kind, partner = _soonest_pair(F, IX, NB, P, i, now, tmin, kind, partner, wrap, dim, False)
     if tmin == math.inf:
         IX[i, KIND] = KIND_NONE
         IX[i, HPOS] = NB_UNSCHEDULED
@@ -244,8 +290,32 @@ def _record_velocities(buf: Any, row: int, column: int, F: Any, i: int) -> None:
 
 
 @jit_inline
+def _species_energy(SE: Any, a: int, now: float, change: float) -> None:
+    """Species ``a``'s kinetic energy changes by ``change`` at ``now``: its time integral so far
+    first (``SE[a]``: the energy, the time it holds since, the integral), exact without gravity,
+    where the energy changes only at collisions."""
+    SE[a, 2] += SE[a, 0] * (now - SE[a, 1])
+    SE[a, 1] = now
+    SE[a, 0] += change
+
+
+@jit_inline
 def _collide(
-    heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
+    heap: Any,
+    lists: Any,
+    F: Any,
+    IX: Any,
+    NB: Any,
+    P: Any,
+    Q: Any,
+    G: Any,
+    K: Any,
+    S: Any,
+    KS: Any,
+    SE: Any,
+    buf: Any,
+    i: int,
+    now: float,
 ) -> None:
     j = IX[i, PARTNER]
     g = P[P_G]
@@ -270,37 +340,60 @@ def _collide(
     r2 = dx * dx + dy * dy + dz * dz
     r = math.sqrt(r2)
     e = _restitution(F, P, i, j, now)
-    m = P[P_MASS]
+    mi = F[i, MASS]
+    mj = F[j, MASS]
     # The contact law (collisionlab.engine.geometry_kernels): along n = (x_j - x_i) / r, i
-    # approaches j at v_n = b / r < 0; j = -(1 + e) v_n / (1/m + 1/m), i gets -j n / m, j gets
-    # +j n / m (lab eqs. 12, 15).
-    impulse = impulse_magnitude(b / r, 2.0 / m, e)
-    f = impulse / (m * r)  # per unit of -(x_i - x_j): the change of velocity along dx
+    # approaches j at v_n = b / r < 0; j = -(1 + e) v_n / (1/m_i + 1/m_j), i gets -j n / m_i, j
+    # gets +j n / m_j (lab eqs. 12, 15).
+    if mi == mj:  # one division fewer each way
+        impulse = impulse_magnitude(b / r, 2.0 / mi, e)
+        fi = impulse / (mi * r)  # per unit of -(x_i - x_j): the change of i's velocity along dx
+        fj = fi
+    else:
+        impulse = impulse_magnitude(b / r, 1.0 / mi + 1.0 / mj, e)
+        fi = impulse / (mi * r)
+        fj = impulse / (mj * r)
     row = -1
     if buf.shape[0] > 0:
         row = _record(buf, K, now, i, j, impulse)
         if row >= 0 and buf.shape[1] >= EVENT_FULL:
-            ri = P[P_RADIUS] / r
+            ri = F[i, RADIUS] / r
             _record_working(
                 buf, row, -dx / r, -dy / r, -dz / r, F[i, X] - dx * ri, F[i, X + 1] - dy * ri, F[i, X + 2] - dz * ri,
                 b / r, e,
             )  # fmt: skip
             _record_velocities(buf, row, 12, F, i)
             _record_velocities(buf, row, 15, F, j)
-    kinetic = F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2 + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
-    F[i, V] += f * dx
-    F[i, V + 1] += f * dy
-    F[i, V + 2] += f * dz
-    F[j, V] -= f * dx
-    F[j, V + 1] -= f * dy
-    F[j, V + 2] -= f * dz
-    kinetic_after = (
-        F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2 + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
-    )
-    G[G_KINETIC] += 0.5 * m * (kinetic_after - kinetic)
+    # Kinetic energy before and after: each body's m v^2 (the sum of both, in the order it had
+    # before mixtures, when the masses are equal: a run of one mass keeps its last bits).
+    kinetic_i = F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2
+    kinetic_j = F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
+    kinetic = kinetic_i + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
+    F[i, V] += fi * dx
+    F[i, V + 1] += fi * dy
+    F[i, V + 2] += fi * dz
+    F[j, V] -= fj * dx
+    F[j, V + 1] -= fj * dy
+    F[j, V + 2] -= fj * dz
+    after_i = F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2
+    if mi == mj:
+        kinetic_after = after_i + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
+        G[G_KINETIC] += 0.5 * mi * (kinetic_after - kinetic)
+        G[G_LOST] += 0.25 * mi * (1.0 - e * e) * b * b / r2  # (1 - e^2)/2 mu v_n^2, mu = m/2
+    else:
+        after_j = F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
+        G[G_KINETIC] += 0.5 * (mi * (after_i - kinetic_i) + mj * (after_j - kinetic_j))
+        mu = mi * mj / (mi + mj)  # the reduced mass
+        G[G_LOST] += 0.5 * mu * (1.0 - e * e) * b * b / r2
     G[G_VIRIAL] += impulse * r  # r_ij . dp_i = (j / r) r^2, positive
-    G[G_LOST] += 0.25 * m * (1.0 - e * e) * b * b / r2  # (1 - e^2)/2 mu v_n^2, mu = m/2
-    overlap = 2.0 * P[P_RADIUS] - r
+    if S.shape[0] > 0:  # a mixture: the pair's species, and each one's kinetic energy
+        a = S[i]
+        c = S[j]
+        KS[a, c] += 1
+        KS[c, a] += 1
+        _species_energy(SE, a, now, 0.5 * mi * (after_i - kinetic_i))
+        _species_energy(SE, c, now, 0.5 * mj * (F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2 - kinetic_j))
+    overlap = F[i, RADIUS] + F[j, RADIUS] - r
     if overlap > G[G_MAX_OVERLAP]:
         G[G_MAX_OVERLAP] = overlap
     if row >= 0 and buf.shape[1] >= EVENT_FULL:
@@ -318,7 +411,20 @@ def _collide(
 
 @jit_inline
 def _bounce(
-    heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, G: Any, K: Any, buf: Any, i: int, now: float
+    heap: Any,
+    lists: Any,
+    F: Any,
+    IX: Any,
+    NB: Any,
+    P: Any,
+    Q: Any,
+    G: Any,
+    K: Any,
+    S: Any,
+    SE: Any,
+    buf: Any,
+    i: int,
+    now: float,
 ) -> None:
     wall = IX[i, PARTNER]
     _advance(F, i, now, P[P_G])
@@ -326,7 +432,7 @@ def _bounce(
     high = (wall & 1) == 1
     v = F[i, V + k]
     g = P[P_G]
-    r = P[P_RADIUS]
+    r = F[i, RADIUS]
     floor = wall == 2 and g > 0.0
     into = (v > 0.0) == high and v != 0.0
     if not into and not (floor and F[i, X + 1] <= r):  # not moving into this wall (any more)
@@ -335,7 +441,7 @@ def _bounce(
         return
     e = _restitution(F, P, i, -1, now)
     inward = -1.0 if high else 1.0  # the wall's normal, towards the body
-    m = P[P_MASS]
+    m = F[i, MASS]
     vn = v * inward  # negative: moving into the wall
     # The contact law with the wall's infinite mass (lab eq. 24): j = -(1 + e) v_n m.
     after = v + inward * impulse_magnitude(vn, 1.0 / m, e) / m
@@ -364,6 +470,8 @@ def _bounce(
     G[G_WALL + wall] += impulse
     G[G_LOST] += 0.5 * m * (1.0 - e * e) * vn * vn  # theory: (1 - e^2)/2 m v_n^2 (the floor's rule aside)
     G[G_KINETIC] += 0.5 * m * (after * after - v * v)
+    if S.shape[0] > 0:
+        _species_energy(SE, S[i], now, 0.5 * m * (after * after - v * v))
     overlap = F[i, X + k] - (P[P_L + k] - r) if high else r - F[i, X + k]
     if overlap > G[G_MAX_OVERLAP]:
         G[G_MAX_OVERLAP] = overlap
@@ -385,13 +493,16 @@ def _fetch_rows(F: Any, IX: Any, NB: Any, i: int) -> None:
 
 
 @jit_inline
-def _fetch_neighbours(F: Any, IX: Any, NB: Any, i: int) -> None:
+def _fetch_neighbours(F: Any, IX: Any, NB: Any, i: int, mixed: bool) -> None:
     """Prefetch the position, velocity and time of each of ``i``'s neighbours (what predicting
-    ``i``'s next collision reads): ``i``'s list must be at hand already."""
+    ``i``'s next collision reads), and in a mixture their radii: ``i``'s list must be at hand
+    already."""
     for m in range(IX[i, NNB]):
         j = NB[i, m]
         prefetch(F, j, X)
         prefetch(F, j, T)
+        if mixed:
+            prefetch(F, j, RADIUS)
 
 
 @jit_inline
@@ -403,10 +514,11 @@ def _fetch_ahead(heap: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, CI
     its partner, whose lists were fetched one event earlier), and the lists and the partner's
     rows of the next event (the heap's first, unless this event schedules an earlier one), or
     the cells it will look through if it rebuilds its list."""
-    _fetch_neighbours(F, IX, NB, i)
+    mixed = P[P_MIXED] != 0.0
+    _fetch_neighbours(F, IX, NB, i, mixed)
     kind = IX[i, KIND]
     if kind == KIND_PAIR:
-        _fetch_neighbours(F, IX, NB, IX[i, PARTNER])
+        _fetch_neighbours(F, IX, NB, IX[i, PARTNER], mixed)
     elif kind == KIND_NLIST:
         for m in range(IX[i, NNB]):
             j = NB[i, m]
@@ -439,15 +551,21 @@ def run_events(
     Q: Any,
     G: Any,
     K: Any,
+    S: Any,
+    KS: Any,
+    SE: Any,
     buf: Any,
     t_end: float,
     max_events: int,
 ) -> int:
-    """Handle events in time order up to ``t_end`` (see the module's docstring for the status)."""
+    """Handle events in time order up to ``t_end`` (see the module's docstring for the status).
+    ``S``, ``KS`` and ``SE``: each body's species, the collisions counted by pair of species and
+    each species' kinetic energy and its time integral (a mixture, see :mod:`.layout`), or
+    empty (one species: nothing counted apart)."""
     # The caller holds the arrays for the whole call: the loop need not count references to them.
     heap, lists, CI, CF = borrowed(heap), borrowed(lists), borrowed(CI), borrowed(CF)
     F, IX, NB, P, Q = borrowed(F), borrowed(IX), borrowed(NB), borrowed(P), borrowed(Q)
-    G, K, buf = borrowed(G), borrowed(K), borrowed(buf)
+    G, K, S, KS, SE, buf = borrowed(G), borrowed(K), borrowed(S), borrowed(KS), borrowed(SE), borrowed(buf)
     handled = 0
     while True:
         if buf.shape[0] > 0 and K[K_BUFFERED] >= buf.shape[0] - 1:
@@ -467,9 +585,9 @@ def run_events(
         K[K_EVENTS] += 1
         kind = IX[i, KIND]
         if kind == KIND_PAIR:
-            _collide(heap, lists, F, IX, NB, P, Q, G, K, buf, i, now)
+            _collide(heap, lists, F, IX, NB, P, Q, G, K, S, KS, SE, buf, i, now)
         elif kind == KIND_WALL:
-            _bounce(heap, lists, F, IX, NB, P, Q, G, K, buf, i, now)
+            _bounce(heap, lists, F, IX, NB, P, Q, G, K, S, SE, buf, i, now)
         else:
             _advance(F, i, now, P[P_G])
             K[K_NLIST] += 1
@@ -508,11 +626,10 @@ def start(heap: Any, lists: Any, CI: Any, CF: Any, F: Any, IX: Any, NB: Any, P: 
 def max_overlap_now(F: Any, IX: Any, NB: Any, P: Any, Q: Any) -> float:
     """The deepest overlap of any pair of neighbours or any body and wall, bodies as they are
     stored (call :func:`synchronize` first); negative: the smallest gap."""
-    sigma = 2.0 * P[P_RADIUS]
-    r = P[P_RADIUS]
     periodic = Q[Q_PERIODIC] != 0
     worst = -math.inf
     for i in range(F.shape[0]):
+        r = F[i, RADIUS]
         for m in range(IX[i, NNB]):
             j = NB[i, m]
             if j < i:
@@ -523,7 +640,7 @@ def max_overlap_now(F: Any, IX: Any, NB: Any, P: Any, Q: Any) -> float:
                 if periodic:
                     d = nearest_image(d, P[P_L + k])
                 d2 += d * d
-            worst = max(worst, sigma - math.sqrt(d2))
+            worst = max(worst, r + F[j, RADIUS] - math.sqrt(d2))
         if not periodic:
             for k in range(Q[Q_DIM]):
                 worst = max(worst, r - F[i, X + k], F[i, X + k] - (P[P_L + k] - r))

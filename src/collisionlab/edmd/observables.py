@@ -11,6 +11,12 @@ with ``d`` the dimension and ``t`` the time simulated. With walls the pressure i
 momentum given to the walls per unit area and time, ``P = sum_w J_w / A_w / (2 d t)`` (the
 mean over the ``2 d`` walls); near walls the density is not the bulk density, so the two
 routes differ by a surface term of order ``sigma / L``. ``kT = 2 E_kin / (d N)`` at the end.
+
+A mixture (:class:`Species`) reports the same, and per species ``kT_a = sum_a m v^2 / (d N_a)``
+(equipartition: every species at the same ``kT``), and per ordered pair of species ``(a, b)``
+how often one ball of ``a`` hits a ball of ``b``, beside Enskog's rate
+(:func:`.theory.enskog_pair_rates`); ``Z`` against BMCSL (3D) or Santos, Yuste and Lopez de
+Haro's equation (2D), :func:`.theory.mixture_compressibility`.
 """
 
 from __future__ import annotations
@@ -20,20 +26,37 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
+import numpy as np
+from numpy.typing import NDArray
+
 from .. import limits
 from ..errors import InvalidInputError
 from ..model import BodyBlock, Box, Scenario, Settings
-from ..validate import non_negative, positive, whole_number
+from ..particles.scenarios import ball_volume
+from ..validate import finite_number, non_negative, positive, whole_number
 from ..vector import Vector3D
 from .start import box_side, gaussian_velocities, lattice
-from .theory import enskog_collision_rate, ideal_compressibility
-from .world import EventDrivenWorld
+from .theory import enskog_collision_rate, enskog_pair_rates, ideal_compressibility, mixture_compressibility
+from .world import EventDrivenWorld, EventSink
 
 if TYPE_CHECKING:
     from ..engine.world import World
     from ..trajectory import FrameWriter
 
-__all__ = ["BOUNDARIES", "DEFAULT_TC", "FRAMES", "ExactGas", "measure", "run_exact_gas"]
+__all__ = [
+    "BOUNDARIES",
+    "DEFAULT_TC",
+    "FRACTION_SUM_TOLERANCE",
+    "FRAMES",
+    "SPECIES_FORM",
+    "ExactGas",
+    "Species",
+    "measure",
+    "parse_species",
+    "run_exact_gas",
+    "species_counts",
+    "species_report",
+]
 
 #: ``collisionlab gas --boundary``: hard walls, or a periodic box.
 BOUNDARIES: tuple[str, ...] = ("walls", "periodic")
@@ -43,6 +66,96 @@ DEFAULT_TC = 0.01
 #: Steps of an exact gas's scenario: the world brings every ball to the end of each step it is
 #: asked for (a frame), and takes as many steps in one call as fill a fraction of a second.
 FRAMES = 1000
+#: How far the species' number fractions may sum from 1 (numbers typed with six or more
+#: decimals, 1/3 as 0.333333); they are then divided by their sum.
+FRACTION_SUM_TOLERANCE = 1e-6
+#: ``collisionlab gas --species``: one species, its fields separated by colons.
+SPECIES_FORM = "NAME:FRACTION:RADIUS[:MASS]"
+#: A mixture's calls of the loop: each runs at least this long (then Python looks at progress
+#: and signals), the steps of one call doubling until it does.
+CHUNK_SECONDS = 0.05
+
+
+@dataclass(frozen=True)
+class Species:
+    """One kind of ball of a mixture: ``fraction`` of the balls by number, of ``radius`` and
+    ``mass`` (``None``: proportional to the ball's area (2D) or volume (3D), a ball of radius 1
+    weighing 1: ``mass = radius^dim``, the default ball's mass at the default radius)."""
+
+    name: str
+    fraction: float
+    radius: float
+    mass: float | None = None
+
+    def checked(self) -> Species:
+        """The same species, validated (:class:`InvalidInputError`, field ``species``)."""
+        if not self.name or not self.name.isprintable() or ":" in self.name:
+            raise InvalidInputError(
+                "species", f"a name must be printable and without ':' ({SPECIES_FORM})", got=self.name
+            )
+        fraction = _species_number(self.fraction, "fraction", self.name)
+        if not 0.0 < fraction <= 1.0:
+            raise InvalidInputError(
+                "species", f"{self.name}: FRACTION must be in (0, 1] (expected {SPECIES_FORM})", got=fraction
+            )
+        radius = _species_number(self.radius, "radius", self.name)
+        if radius <= 0.0:
+            raise InvalidInputError("species", f"{self.name}: RADIUS must be > 0 (expected {SPECIES_FORM})", got=radius)
+        mass = None if self.mass is None else _species_number(self.mass, "mass", self.name)
+        if mass is not None and mass <= 0.0:
+            raise InvalidInputError("species", f"{self.name}: MASS must be > 0 (expected {SPECIES_FORM})", got=mass)
+        return Species(self.name, fraction, radius, mass)
+
+    def mass_in(self, dim: int) -> float:
+        """The mass of one ball: :attr:`mass`, or ``radius^dim`` (see the class)."""
+        return self.mass if self.mass is not None else self.radius**dim
+
+
+def _species_number(value: object, what: str, name: str) -> float:
+    try:
+        return finite_number(value, "species")
+    except InvalidInputError:
+        raise InvalidInputError(
+            "species", f"{name}: {what.upper()} must be a finite number (expected {SPECIES_FORM})", got=value
+        ) from None
+
+
+def parse_species(text: str) -> Species:
+    """One ``--species`` value, ``NAME:FRACTION:RADIUS[:MASS]``, as a checked :class:`Species`.
+
+    >>> parse_species("big:0.5:1")
+    Species(name='big', fraction=0.5, radius=1.0, mass=None)
+    >>> parse_species("small:0.5:0.5:2").mass
+    2.0
+    """
+    fields = text.split(":")
+    if len(fields) not in (3, 4):
+        raise InvalidInputError("species", f"expected {SPECIES_FORM}: 3 or 4 fields", got=text)
+    numbers: list[float] = []
+    for what, field in zip(("fraction", "radius", "mass"), fields[1:], strict=False):
+        try:
+            numbers.append(float(field))
+        except ValueError:
+            raise InvalidInputError(
+                "species", f"{what.upper()} must be a number (expected {SPECIES_FORM})", got=text
+            ) from None
+    return Species(fields[0], *numbers).checked()
+
+
+def species_counts(species: tuple[Species, ...], n: int) -> list[int]:
+    """Balls of each species among ``n``: ``fraction * n`` rounded so that they sum to ``n``
+    (the largest remainders get the balls left over; ties to the first).
+
+    >>> species_counts((Species("a", 0.5, 1.0), Species("b", 0.5, 0.5)), 5)
+    [3, 2]
+    """
+    exact = [sp.fraction * n for sp in species]
+    counts = [math.floor(x) for x in exact]
+    left = n - sum(counts)
+    order = sorted(range(len(species)), key=lambda k: (-(exact[k] - counts[k]), k))
+    for k in order[:left]:
+        counts[k] += 1
+    return counts
 
 
 @dataclass(frozen=True)
@@ -63,6 +176,9 @@ class ExactGas:
     kt: float = 1.0
     radius: float = 1.0
     mass: float = 1.0
+    #: A mixture (empty: ``n`` balls of ``radius`` and ``mass``); ``fraction`` is then the
+    #: packing fraction of all the species together.
+    species: tuple[Species, ...] = ()
 
     def checked(self) -> ExactGas:
         """The same settings, validated (:class:`InvalidInputError` names the field)."""
@@ -85,6 +201,7 @@ class ExactGas:
             raise InvalidInputError("gravity", "needs walls (a periodic box has no floor)", got=gravity)
         if tc is None:
             tc = DEFAULT_TC if restitution < 1.0 or gravity > 0.0 else 0.0
+        species = self._species_checked(n)
         return ExactGas(
             n=n,
             dim=dim,
@@ -98,13 +215,83 @@ class ExactGas:
             kt=positive(self.kt, "kt"),
             radius=positive(self.radius, "radius"),
             mass=positive(self.mass, "mass"),
+            species=species,
         )
+
+    def _species_checked(self, n: int) -> tuple[Species, ...]:
+        """The species validated, names unique, fractions summing to 1 (then divided by their
+        sum) and each with at least one ball among ``n``."""
+        if not self.species:
+            return ()
+        species = tuple(sp.checked() for sp in self.species)
+        names = [sp.name for sp in species]
+        twice = sorted({name for name in names if names.count(name) > 1})
+        if twice:
+            raise InvalidInputError(
+                "species", f"each NAME once (expected {SPECIES_FORM}, repeated)", got=", ".join(twice)
+            )
+        total = math.fsum(sp.fraction for sp in species)
+        if abs(total - 1.0) > FRACTION_SUM_TOLERANCE:
+            raise InvalidInputError(
+                "species", f"the FRACTIONs must sum to 1, within {FRACTION_SUM_TOLERANCE:g} ({SPECIES_FORM})", got=total
+            )
+        species = tuple(Species(sp.name, sp.fraction / total, sp.radius, sp.mass) for sp in species)
+        for sp, count in zip(species, species_counts(species, n), strict=True):
+            if count == 0:
+                raise InvalidInputError("species", f"{sp.name}: fraction {sp.fraction:g} of {n:,} balls is no ball")
+        return species
+
+    def mixture(self) -> tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64], list[int]]:
+        """A checked mixture's balls: each one's species (seeded, shuffled), radius and mass, and
+        the count of each species."""
+        counts = species_counts(self.species, self.n)
+        kinds = np.repeat(np.arange(len(counts)), counts)
+        # A stream of its own: the lattice's sites and the velocities use the seed's first.
+        np.random.default_rng([self.seed, 1]).shuffle(kinds)
+        radii = np.array([sp.radius for sp in self.species])[kinds]
+        masses = np.array([sp.mass_in(self.dim) for sp in self.species])[kinds]
+        return kinds, radii, masses, counts
+
+    def _mixture_start(self, radii: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
+        """Sites for a mixture and the box side: a lattice whose spacing exceeds the largest
+        diameter, in the box that holds all the balls at :attr:`fraction`."""
+        largest = float(radii.max())
+        volume = float(sum(ball_volume(float(r), self.dim) for r in radii))
+        side = (volume / self.fraction) ** (1.0 / self.dim)
+        # the lattice of balls of the largest radius in that box: its packing fraction
+        as_largest = self.n * ball_volume(largest, self.dim) / side**self.dim
+        try:
+            positions = lattice(self.n, self.dim, as_largest, largest, self.boundary == "periodic", self.seed)
+        except InvalidInputError:
+            raise InvalidInputError(
+                "fraction",
+                f"too dense to start this mixture on a lattice: its sites are one largest diameter apart, as for "
+                f"{self.n:,} balls of radius {largest:g} at fraction {as_largest:.3g} (lower --fraction, or more balls "
+                "in a periodic box)",
+                got=self.fraction,
+            ) from None
+        return positions, box_side(self.n, self.dim, as_largest, largest)
+
+    def mixture_velocities(self, masses: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Seeded Gaussian velocities of variance ``kT / m`` per ball, the total momentum zero,
+        scaled so that the kinetic energy is exactly ``dim N kT / 2``."""
+        v = np.random.default_rng(self.seed).normal(0.0, 1.0, size=(self.n, self.dim)) / np.sqrt(masses)[:, None]
+        if self.n > 1:
+            v -= (masses @ v) / masses.sum()
+        energy = 0.5 * float(np.einsum("i,ij,ij->", masses, v, v))
+        if energy > 0.0:
+            v *= math.sqrt(0.5 * self.dim * self.n * self.kt / energy)
+        return v
 
     def scenario(self, frames: int = FRAMES) -> Scenario:
         """The gas as a scenario: the balls as one block named ``ball`` in a box ``[0, L]`` of
         walls or periodic, ``mode = "exact"``: the engine's world runs it event by event
-        (:mod:`collisionlab.engine.event_stepper`), ``frames`` steps of ``time / frames``."""
+        (:mod:`collisionlab.engine.event_stepper`), ``frames`` steps of ``time / frames``.
+        Not for a mixture: the engine's event-driven scenarios hold balls of one radius and
+        mass, and a mixture runs on :meth:`world` (:func:`run_exact_gas` does it)."""
         s = self.checked()
+        if s.species:
+            raise InvalidInputError("species", "a mixture runs on ExactGas.world(), not as a scenario")
         periodic = s.boundary == "periodic"
         shape: Literal["circle", "sphere"] = "circle" if s.dim == 2 else "sphere"
         block = BodyBlock(
@@ -130,6 +317,21 @@ class ExactGas:
     def world(self) -> EventDrivenWorld:
         s = self.checked()
         periodic = s.boundary == "periodic"
+        if s.species:
+            kinds, radii, masses, _ = s.mixture()
+            positions, side = s._mixture_start(radii)
+            return EventDrivenWorld(
+                positions,
+                s.mixture_velocities(masses),
+                [side] * s.dim,
+                radius=radii,
+                mass=masses,
+                species=kinds,
+                restitution=s.restitution,
+                gravity=s.gravity,
+                tc=s.tc or 0.0,
+                periodic=periodic,
+            )
         positions = lattice(s.n, s.dim, s.fraction, s.radius, periodic, s.seed)
         velocities = gaussian_velocities(s.n, s.dim, s.kt, s.mass, s.seed)
         side = box_side(s.n, s.dim, s.fraction, s.radius)
@@ -167,7 +369,9 @@ def measure(world: EventDrivenWorld, energy_start: float, seconds: float) -> dic
         "collision_rate": 2.0 * tally.pair_collisions / (n * t) if t > 0 else 0.0,
         "energy_drift": (energy - energy_start) / energy_start if energy_start != 0 else 0.0,
         "energy_lost_in_collisions": tally.energy_lost,
-        "max_overlap": max(tally.max_contact_overlap, world.max_overlap()) / (2.0 * world.radius),
+        # in diameters: of the smallest ball in a mixture
+        "max_overlap": max(tally.max_contact_overlap, world.max_overlap())
+        / (2.0 * (float(world.radii.min()) if world.mixed else world.radius)),
         "bytes_per_body": world.nbytes / n,
     }
     if not world.periodic:
@@ -187,6 +391,8 @@ def run_exact_gas(
     frames: int = 0,
     write_frame: FrameWriter | None = None,
     calling: Callable[[Callable[[], None]], None] | None = None,
+    sink: EventSink | None = None,
+    balls: EventDrivenWorld | None = None,
 ) -> dict[str, Any]:
     """Run ``gas`` on the engine's world (``world``, fresh from ``World(gas.scenario())``, or one
     made now) for ``gas.time`` and report: the JSON of ``collisionlab gas --mode exact``.
@@ -194,11 +400,21 @@ def run_exact_gas(
     ``write_frame``, ``frames`` frames at equal times are written through it
     (:func:`collisionlab.trajectory.advance_in_frames`: ``frames - 1`` must divide the
     scenario's steps, see :func:`~collisionlab.trajectory.steps_for_frames`). ``calling`` makes
-    each compiled call (:meth:`World.advance <collisionlab.engine.world.World.advance>`)."""
+    each compiled call (:meth:`World.advance <collisionlab.engine.world.World.advance>`).
+
+    A mixture (``gas.species``) runs on its :class:`EventDrivenWorld` alone, the same loop
+    (the engine's event-driven scenarios hold one radius and mass): ``world``, ``frames`` and
+    ``write_frame`` do not apply (no trajectory yet), ``balls`` is its world if made already
+    (fresh from ``gas.world()``), and ``sink`` receives its collisions
+    (:meth:`EventDrivenWorld.run`'s blocks; the engine's world streams a scenario's itself)."""
     from ..engine.event_stepper import EventDrivenStepper
     from ..engine.world import World
 
     gas = gas.checked()
+    if gas.species:
+        if write_frame is not None and frames > 0:
+            raise InvalidInputError("trajectory", "is not available for a mixture yet (its files hold one radius)")
+        return _run_mixture(gas, gas.world() if balls is None else balls, between, calling, sink)
     world = World(gas.scenario(), events=False) if world is None else world
     stepper = world.stepper
     if not isinstance(stepper, EventDrivenStepper):
@@ -231,3 +447,113 @@ def run_exact_gas(
         enskog_collision_rate(gas.fraction, gas.dim, gas.radius, gas.mass, report["kT"]) if elastic_gas else None
     )
     return report
+
+
+def _run_mixture(
+    gas: ExactGas,
+    balls: EventDrivenWorld,
+    between: Callable[[int, int], None] | None,
+    calling: Callable[[Callable[[], None]], None] | None,
+    sink: EventSink | None,
+) -> dict[str, Any]:
+    """:func:`run_exact_gas` for a checked mixture: its world run to ``FRAMES`` step ends of
+    ``time / FRAMES`` (as the engine steps a scenario: the same times), in calls of at least
+    :data:`CHUNK_SECONDS`, then measured."""
+    import time
+
+    from .guard import RunGuard
+
+    guard = RunGuard(balls)
+    energy_start = balls.kinetic_energy() + balls.potential_energy()
+    dt = gas.time / FRAMES
+    done, chunk, seconds = 0, 1, 0.0
+    while done < FRAMES:
+        until = (done + min(chunk, FRAMES - done)) * dt
+
+        def work(until: float = until) -> None:
+            balls.run(until, sink, bring=False, between=guard, every=guard.every)
+
+        started = time.perf_counter()
+        if calling is None:
+            work()
+        else:
+            calling(work)
+        took = time.perf_counter() - started
+        seconds += took
+        done += min(chunk, FRAMES - done)
+        if between is not None:
+            between(done, FRAMES)
+        if took < CHUNK_SECONDS:
+            chunk *= 2
+    report: dict[str, Any] = {
+        "n": gas.n,
+        "dim": gas.dim,
+        "fraction": gas.fraction,
+        "mode": "exact",
+        "boundary": gas.boundary,
+        "seed": gas.seed,
+        "restitution": gas.restitution,
+        "gravity": gas.gravity,
+        "tc": gas.tc,
+    }
+    report.update(measure(balls, energy_start, seconds))
+    report.update(species_report(gas, balls, report["kT"]))
+    return report
+
+
+def species_report(gas: ExactGas, world: EventDrivenWorld, kt: float) -> dict[str, Any]:
+    """A mixture's own fields of the report: ``compressibility_theory`` and
+    ``collision_rate_enskog`` for the mixture (elastic, no gravity; else ``None``), ``species``
+    (each one's name, count, radius, mass and kT) and ``pair_collision_rates`` (per ordered pair
+    ``(a, b)``: the collisions between the two species, ``rate`` = how often one ball of ``a``
+    hits a ball of ``b`` per unit time, and Enskog's ``rate_enskog``). A species' ``kT`` is
+    ``2 <E_a> / (d N_a)``, ``<E_a>`` its kinetic energy averaged over the run (exact: it changes
+    only at collisions), or under gravity the end's."""
+    kinds, _, _, counts = gas.mixture()
+    if gas.gravity == 0.0:  # averaged over the run (a snapshot of N_a balls scatters by sqrt(2 / (d N_a)))
+        energies = world.species_mean_energy().tolist()
+    else:  # the energy changes between collisions too: the end's
+        velocities = world.velocities
+        energy = 0.5 * world.masses * np.einsum("ij,ij->i", velocities, velocities)
+        energies = [float(energy[kinds == k].sum()) for k in range(len(counts))]
+    t = world.time
+    tally = world.tally()
+    dim = gas.dim
+    fractions = [count / gas.n for count in counts]
+    diameters = [2.0 * sp.radius for sp in gas.species]
+    species_masses = [sp.mass_in(dim) for sp in gas.species]
+    elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
+    rates = enskog_pair_rates(fractions, diameters, species_masses, gas.fraction, dim, kt) if elastic_gas else None
+    pairs = []
+    for a, first in enumerate(gas.species):
+        for b, second in enumerate(gas.species):
+            # a ball of a in a collision with a ball of b (counted for each of a's: twice if a = b)
+            hits = tally.species_collisions[a][b]
+            pairs.append(
+                {
+                    "species": [first.name, second.name],
+                    "collisions": hits // 2 if a == b else hits,
+                    "rate": hits / (counts[a] * t) if t > 0 else 0.0,
+                    "rate_enskog": rates[a][b] if rates is not None else None,
+                }
+            )
+    return {
+        "compressibility_theory": mixture_compressibility(fractions, diameters, gas.fraction, dim)
+        if elastic_gas
+        else None,
+        "collision_rate_enskog": sum(x * sum(row) for x, row in zip(fractions, rates, strict=True))
+        if rates is not None
+        else None,
+        "bytes_per_body": world.nbytes / gas.n,
+        "species": [
+            {
+                "name": sp.name,
+                "count": count,
+                "radius": sp.radius,
+                "mass": sp.mass_in(dim),
+                "kT": 2.0 * energies[k] / (dim * count),
+            }
+            for k, (sp, count) in enumerate(zip(gas.species, counts, strict=True))
+        ],
+        "pair_collision_rates": pairs,
+    }
