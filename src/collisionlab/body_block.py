@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -21,12 +21,10 @@ from numpy.typing import NDArray
 from .body import Body
 from .built_sequence import BuiltSequence
 from .errors import InvalidInputError
+from .gas_spec import GasSpec
 from .shapes import AABB, Circle, Sphere
 from .validate import non_negative, positive, positive_or_inf, printable
 from .vector import Vector3D
-
-if TYPE_CHECKING:
-    from .gas_table import GasSpec
 
 __all__ = ["BLOCK_SHAPES", "Bodies", "BodyBlock", "BodyColumns"]
 

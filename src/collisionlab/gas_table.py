@@ -20,41 +20,19 @@ hold is refused, naming the field. So no two bodies of one table ever overlap.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 
 from .body_block import BodyBlock
 from .errors import InvalidInputError
+from .gas_spec import GasSpec  # its own file, so that body_block can name it without importing this one
 
 __all__ = ["GasSpec", "gas_count", "place_gas"]
 
 #: The gap between neighbouring lattice sites, as a fraction of the body's width (dimensionless):
 #: enough that rounding never makes two placed bodies touch.
 _SITE_GAP = 0.01
-
-
-@dataclass(frozen=True)
-class GasSpec:
-    """A validated ``[[gas]]`` table. ``half`` is the half extent per axis (the radius, three
-    times, for a ball); ``region`` two corners (low, high); ``velocity`` is used when ``kT`` is
-    ``None``."""
-
-    name: str
-    shape: str
-    half: tuple[float, float, float]
-    region: tuple[tuple[float, float, float], tuple[float, float, float]]
-    count: int
-    mass: float
-    kT: float | None
-    velocity: tuple[float, float, float] | None
-    restitution: float | None
-    seed: int
-
-    @property
-    def dims(self) -> int:
-        return 2 if self.shape == "circle" or (self.shape == "aabb" and self.half[2] == 0.0) else 3
 
 
 def _sites_per_axis(spec: GasSpec) -> list[int]:

@@ -53,17 +53,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 import numpy as np
 
-from .body_block import BodyBlock, BodyColumns
+from .body_block import Bodies, BodyBlock, BodyColumns
 from .errors import InvalidInputError, OutOfRangeError
 from .validate import non_negative, positive, whole_number
 from .vector import Vector3D
-
-if TYPE_CHECKING:
-    from .model import Scenario
 
 __all__ = [
     "MAX_ACCELERATION",
@@ -87,6 +84,7 @@ __all__ = [
     "MIN_MASS",
     "MIN_SIZE",
     "RangeGuard",
+    "ScenarioNumbers",
     "check_frames",
     "check_scenario",
     "check_vector",
@@ -141,6 +139,43 @@ MAX_GAS_TIME = 1e6
 MIN_GAS_FRACTION = 1e-6
 #: Bytes: the largest scenario file read (a file is read up to this and one byte more).
 MAX_SCENARIO_BYTES = 1_000_000
+
+
+# The scenario as this file reads it. The model's Scenario validates itself with check_scenario
+# (model imports limits), so limits names the parts it reads instead of importing model: an
+# import circle otherwise (issue 30). mypy checks that model.Scenario has them where it calls.
+class _SettingsNumbers(Protocol):
+    @property
+    def dt(self) -> float: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def restitution(self) -> float: ...
+    @property
+    def gravity(self) -> Vector3D: ...
+    @property
+    def mode(self) -> str: ...
+
+
+class _ObstacleNumbers(Protocol):
+    @property
+    def shape(self) -> object: ...
+    @property
+    def restitution(self) -> float | None: ...
+
+
+class ScenarioNumbers(Protocol):
+    """What :func:`check_scenario` and :class:`RangeGuard` read of a
+    :class:`~collisionlab.model.Scenario`: its settings, bodies, obstacles and dimension."""
+
+    @property
+    def settings(self) -> _SettingsNumbers: ...
+    @property
+    def bodies(self) -> Bodies: ...
+    @property
+    def obstacles(self) -> Sequence[_ObstacleNumbers]: ...
+    @property
+    def dims(self) -> int: ...
 
 
 def within(value: float, field: str, low: float, high: float, unit: str = "") -> float:
@@ -236,7 +271,7 @@ def check_frames(steps: int, every: int, bodies: int, field: str = "steps") -> N
         )
 
 
-def check_scenario(scenario: Scenario, columns: BodyColumns | None = None) -> None:
+def check_scenario(scenario: ScenarioNumbers, columns: BodyColumns | None = None) -> None:
     """Refuse a scenario with a number outside the range above, naming the field as a scenario
     file does (``simulation.dt``, ``body[0].velocity``, ``static[1].point``). ``columns``: the
     bodies as arrays, if the caller has them already."""
@@ -276,13 +311,13 @@ def _closing(speeds: Sequence[float]) -> float:
     return sum(top)
 
 
-def _smallest_halves(scenario: Scenario, columns: BodyColumns) -> Any:
+def _smallest_halves(scenario: ScenarioNumbers, columns: BodyColumns) -> Any:
     """Each body's smallest half size: its radius, or half its box's shortest edge."""
     dims = scenario.dims
     return np.where(columns.kind <= 1, columns.ext[:, 0], columns.ext[:, :dims].min(axis=1))
 
 
-def _reach(scenario: Scenario, columns: BodyColumns | None = None) -> float:
+def _reach(scenario: ScenarioNumbers, columns: BodyColumns | None = None) -> float:
     """How far bodies may close in one step in exact mode: ``MAX_TRAVEL_PER_SIZE`` times the
     smallest sum of two bodies' sizes (radius, or half the shortest edge), the distance at which
     time of impact must resolve a touch; a lone body against obstacles, its own size."""
@@ -290,7 +325,7 @@ def _reach(scenario: Scenario, columns: BodyColumns | None = None) -> float:
     return MAX_TRAVEL_PER_SIZE * float(sizes.sum())
 
 
-def _check_travel(scenario: Scenario, columns: BodyColumns) -> None:
+def _check_travel(scenario: ScenarioNumbers, columns: BodyColumns) -> None:
     """Exact mode: two bodies may close by at most ``_reach`` in one step, else time of impact
     cannot resolve the touch (measured: it misses beyond ~1e7 sizes per step)."""
     velocities = columns.vel
@@ -306,7 +341,7 @@ def _check_travel(scenario: Scenario, columns: BodyColumns) -> None:
         )
 
 
-def _body_field(scenario: Scenario, index: int, key: str) -> str:
+def _body_field(scenario: ScenarioNumbers, index: int, key: str) -> str:
     """The field of body ``index`` as a scenario file names it: ``body[i].key`` for a body given
     alone, ``gas[k].key`` for one of a block."""
     singles = blocks = 0
@@ -344,7 +379,7 @@ class RangeGuard:
     ``MAX_RUN_SPEED`` (else :class:`OutOfRangeError`), and in exact mode a warning is given once
     when bodies come to move too far per step for time of impact to resolve."""
 
-    def __init__(self, scenario: Scenario) -> None:
+    def __init__(self, scenario: ScenarioNumbers) -> None:
         self.names = scenario.bodies.names()
         self.dt = scenario.settings.dt
         self.exact = scenario.settings.mode == "exact"

@@ -26,6 +26,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from . import shapes
 from .contact import Contact, Separation
 from .engine import geometry_kernels as gk
 from .errors import OutOfRangeError, UnsupportedPairError
@@ -273,3 +274,8 @@ def distance(a: Shape, b: Shape) -> float:
     -0.75
     """
     return separation(a, b).distance
+
+
+# The shapes' methods (a.contact(b), ...) are these functions, handed to shapes.py here: it cannot
+# import this file, which imports it.
+shapes._use_queries(contact, distance, intersects)

@@ -602,6 +602,10 @@ class RunRecord:
         """The picture of ``--plot`` (trajectories, energy, momentum) as a matplotlib ``Figure``;
         ``scenario`` defaults to the one that was run."""
         from .errors import InvalidInputError
+
+        # The one import from below the pictures into them (issue 30): a record draws itself, and
+        # only when asked, so matplotlib loads only then. Not a circle: the pictures read a run
+        # through their own protocol (plotting/_run.py), never this file.
         from .plotting.static import draw_figure
 
         scenario = scenario or self.scenario

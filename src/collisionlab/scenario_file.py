@@ -17,7 +17,8 @@ from typing import Any, TypeVar
 
 from .engine.overlap import refuse_overlaps
 from .errors import CollisionLabError, InvalidInputError, did_you_mean, escape_controls
-from .gas_table import GasSpec, gas_count, place_gas
+from .gas_spec import GasSpec
+from .gas_table import gas_count, place_gas
 from .limits import MAX_SCENARIO_BYTES
 from .model import Body, BodyBlock, Box, Obstacle, Scenario, Settings
 from .shapes import AABB, Circle, Line, Plane, Sphere

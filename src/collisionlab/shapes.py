@@ -16,23 +16,53 @@ queries as methods: ``a.intersects(b)``, ``a.contact(b)``, ``a.distance(b)``.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, cast
+from typing import cast
 
+from .contact import Contact
 from .errors import InvalidInputError
 from .tolerances import COLLINEAR_SINE
 from .validate import positive
 from .vector import Vector3D, VectorLike, as_vector, as_vector_3d
 
-if TYPE_CHECKING:
-    from .contact import Contact
-
 __all__ = ["AABB", "Circle", "Line", "Plane", "Shape", "Sphere"]
 
 
+# The queries the methods below are: collisionlab.narrowphase's contact, distance and
+# intersects, handed down by narrowphase when it is imported (_use_queries). narrowphase imports
+# these shapes (its dispatch table is keyed on them), so importing it from here would be an import
+# circle (issue 30). Importing any collisionlab module runs collisionlab/__init__.py first, which
+# imports narrowphase, so the queries are in place before a shape can be built.
+@dataclass(frozen=True)
+class _PairQueries:
+    contact: Callable[[Shape, Shape], Contact | None]
+    distance: Callable[[Shape, Shape], float]
+    intersects: Callable[[Shape, Shape], bool]
+
+
+_queries: _PairQueries | None = None
+
+
+def _use_queries(
+    contact: Callable[[Shape, Shape], Contact | None],
+    distance: Callable[[Shape, Shape], float],
+    intersects: Callable[[Shape, Shape], bool],
+) -> None:
+    """Called once, by :mod:`collisionlab.narrowphase`: the functions behind the methods."""
+    global _queries
+    _queries = _PairQueries(contact, distance, intersects)
+
+
+def _pair_queries() -> _PairQueries:
+    if _queries is None:  # cannot happen through the package (see above)
+        raise RuntimeError("collisionlab.narrowphase is not loaded: import collisionlab")
+    return _queries
+
+
 class _Queries:
-    """The collision queries as methods: each delegates to the free function of the same name
-    in :mod:`collisionlab.narrowphase`, so ``a.contact(b) == contact(a, b)``, and a pair with no
+    """The collision queries as methods: each calls the free function of the same name in
+    :mod:`collisionlab.narrowphase`, so ``a.contact(b) == contact(a, b)``, and a pair with no
     query raises the same :class:`~collisionlab.errors.UnsupportedPairError`."""
 
     __slots__ = ()
@@ -43,9 +73,7 @@ class _Queries:
         >>> Sphere((0, 0.5, 0), 1).intersects(Plane((0, 0, 0), (0, 1, 0)))
         True
         """
-        from . import narrowphase  # narrowphase imports the shapes
-
-        return narrowphase.intersects(cast("Shape", self), other)
+        return _pair_queries().intersects(cast("Shape", self), other)
 
     def contact(self, other: Shape) -> Contact | None:
         """The contact with ``other``, normal from this shape to ``other``, or ``None``
@@ -54,9 +82,7 @@ class _Queries:
         >>> Circle((0, 0), 1).contact(Circle((1.5, 0), 1)).depth
         0.5
         """
-        from . import narrowphase
-
-        return narrowphase.contact(cast("Shape", self), other)
+        return _pair_queries().contact(cast("Shape", self), other)
 
     def distance(self, other: Shape) -> float:
         """Signed distance to ``other``: the gap, or minus the depth when overlapping
@@ -71,9 +97,7 @@ class _Queries:
 Circle-Circle, Sphere-Sphere, AABB-AABB, Line-Circle, Plane-Sphere, Circle-AABB, Sphere-AABB, \
 Line-AABB, Plane-AABB (either order)
         """
-        from . import narrowphase
-
-        return narrowphase.distance(cast("Shape", self), other)
+        return _pair_queries().distance(cast("Shape", self), other)
 
 
 def _vector(owner: object, name: str, value: object) -> Vector3D:

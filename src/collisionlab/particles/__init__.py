@@ -9,11 +9,11 @@ from plain numpy.
 
 from __future__ import annotations
 
-from .backend import BACKENDS, pick_backend, warm_up
+from .backend import BACKENDS, pick_backend
 from .broadphase import brute_force_pairs, grid_pairs
 from .maxwell import component_variance, speed_pdf
 from .scenarios import GasScenario, gas_scenario
-from .world import ParticleWorld, Progress, StepReport
+from .world import ParticleWorld, Progress, StepReport, warm_up
 
 __all__ = [
     "BACKENDS",

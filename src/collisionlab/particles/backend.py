@@ -5,19 +5,19 @@ the very same functions uncompiled (for small worlds and tests: it gives the sam
 more slowly). There is no second, hand-kept implementation.
 
 numba's compiled kernels are cached in the user's cache folder, never inside the installed
-package (:mod:`collisionlab.numba_cache`).
+package (:mod:`collisionlab.numba_cache`). ``warm_up`` (compile them ahead of a timed run) builds
+a :class:`~collisionlab.particles.world.ParticleWorld`, so it lives in :mod:`.world`, which
+imports this file.
 """
 
 from __future__ import annotations
 
 from types import ModuleType
 
-import numpy as np
-
 from ..errors import InvalidInputError
 from ..numba_cache import use_user_cache
 
-__all__ = ["BACKENDS", "engine_kernels", "pick_backend", "warm_up"]
+__all__ = ["BACKENDS", "engine_kernels", "pick_backend"]
 
 
 use_user_cache()  # numba reads NUMBA_CACHE_DIR once, when it is first imported
@@ -46,20 +46,3 @@ def engine_kernels(backend: str) -> ModuleType:
     from ..engine import compiled
 
     return compiled.kernels()
-
-
-def warm_up() -> bool:
-    """Compile the numba kernels now (or load them from numba's on-disk cache, which takes well
-    under a second), so that a timed run does not include the compile. Returns True."""
-    from .world import ParticleWorld
-
-    world = ParticleWorld(
-        np.array([[0.0, 0.0], [1.5, 0.0]]),
-        np.array([[1.0, 0.0], [-1.0, 0.0]]),
-        1.0,
-        box=((-3.0, -3.0), (3.0, 3.0)),
-        backend="numba",
-    )
-    world.step(0.1, steps=2)
-    world.overlapping_pairs()
-    return True

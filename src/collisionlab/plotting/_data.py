@@ -18,10 +18,10 @@ from numpy.typing import NDArray
 from ..errors import InvalidInputError, OutOfRangeError
 from ..limits import MAX_RUN_COORDINATE
 from ..model import Scenario
-from ..record import CollisionEvent, RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
 from ..tolerances import PICTURE_MIN_SPAN
 from ..vector import Vector3D
+from ._run import DrawnEvent, DrawnRun
 
 __all__ = [
     "BOX_TRIANGLES",
@@ -82,7 +82,7 @@ def thin_indices(count: int, limit: int, keep: Sequence[int] = ()) -> NDArray[np
     return np.unique(np.concatenate([base, extra]))
 
 
-def _check_drawable(record: RunRecord) -> None:
+def _check_drawable(record: DrawnRun) -> None:
     """Pictures draw coordinates up to ``MAX_RUN_COORDINATE`` (what a run may reach): beyond,
     axis ticks, float32 pages and numpy's arange overflow."""
     farthest = max((abs(c) for frame in record.frames for body in frame.bodies for c in body.position), default=0.0)
@@ -121,7 +121,7 @@ class RunArrays:
     """A run's frames as arrays: ``times`` (F,), ``steps`` (F,), ``positions`` and ``velocities``
     (F, B, 3), with each body's ``names`` (B,), ``masses`` (B,) and scenario body."""
 
-    record: RunRecord
+    record: DrawnRun
     scenario: Scenario
     names: tuple[str, ...]
     masses: Array
@@ -131,7 +131,7 @@ class RunArrays:
     velocities: Array
 
     @staticmethod
-    def build(record: RunRecord, scenario: Scenario) -> RunArrays:
+    def build(record: DrawnRun, scenario: Scenario) -> RunArrays:
         """The arrays of ``record``; refuses a record with no frames or with a body that the
         scenario does not have (the two must belong together)."""
         if not record.frames:
@@ -187,7 +187,7 @@ class RunArrays:
             keep.add(max(int(k) - 1, 0))
         return sorted(keep)
 
-    def shown_events(self) -> list[CollisionEvent]:
+    def shown_events(self) -> list[DrawnEvent]:
         """The events that get a marker: all of them, or an even choice of
         :data:`MAX_EVENT_MARKERS` of them."""
         events = self.record.events

@@ -35,9 +35,9 @@ from PIL import Image
 from ..atomic import atomic_path
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..record import RunRecord
 from ..shapes import AABB, Circle
 from ._data import Array, RunArrays, box_edges, check_path, sphere_mesh, thin_indices
+from ._run import DrawnRun
 from .static import EVENT_COLOR, _check_size, body_color, draw_obstacles, m3, setup_view
 
 __all__ = ["DEFAULT_ANIMATION_SIZE", "DEFAULT_FRAMES", "render_frames", "save_animation"]
@@ -209,7 +209,7 @@ def _sphere_quads(radius: float, color: str, n_u: int = 18, n_v: int = 10) -> tu
 
 
 def render_frames(
-    record: RunRecord, scenario: Scenario, frames: int | None = None, size: tuple[int, int] = DEFAULT_ANIMATION_SIZE
+    record: DrawnRun, scenario: Scenario, frames: int | None = None, size: tuple[int, int] = DEFAULT_ANIMATION_SIZE
 ) -> Iterator[NDArray[np.uint8]]:
     """The animation's frames as RGB arrays (height, width, 3), ``frames`` of them (see the
     module's docstring for the default and the thinning)."""
@@ -225,7 +225,7 @@ def render_frames(
         yield scene.pixels()
 
 
-def _frame_ms(record: RunRecord, count: int) -> int:
+def _frame_ms(record: DrawnRun, count: int) -> int:
     span = record.frames[-1].time - record.frames[0].time if record.frames else 0.0
     per_frame = 1000.0 * span / max(count - 1, 1)
     return int(round(min(max(per_frame, 30.0), 200.0) / 10.0) * 10)
@@ -257,7 +257,7 @@ def check_animation_path(path: str) -> Path:
 
 
 def save_animation(
-    record: RunRecord,
+    record: DrawnRun,
     scenario: Scenario,
     path: str,
     *,

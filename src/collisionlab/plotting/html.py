@@ -33,7 +33,6 @@ import numpy as np
 from ..atomic import atomic_path
 from ..extras import require
 from ..model import Scenario
-from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane
 from ..tolerances import PICTURE_MIN_SPAN
 from ._data import (
@@ -49,6 +48,7 @@ from ._data import (
     thin_indices,
     uncrowded,
 )
+from ._run import DrawnRun
 from .static import MAX_POINTS
 
 __all__ = ["HTML_FRAMES", "build_figure", "save_html"]
@@ -156,7 +156,7 @@ def _event_traces(run: RunArrays) -> list[Any]:
     ]  # fmt: skip
 
 
-def build_figure(record: RunRecord, scenario: Scenario) -> tuple[Any, RunArrays]:
+def build_figure(record: DrawnRun, scenario: Scenario) -> tuple[Any, RunArrays]:
     """The plotly figure of a run (see the module's docstring) and the arrays it was drawn from."""
     go = _plotly()
     run = RunArrays.build(record, scenario)
@@ -319,7 +319,7 @@ def check_html_path(path: str) -> Path:
     return check_path(path, "--html", (".html", ".htm"), "FILE.html in an existing folder")
 
 
-def save_html(record: RunRecord, scenario: Scenario, path: str) -> None:
+def save_html(record: DrawnRun, scenario: Scenario, path: str) -> None:
     """Save the interactive page of a run (see the module's docstring) to ``path`` (``.html``).
     Written whole or not at all; a bad path raises ``InvalidInputError("--html", ...)``."""
     target = check_html_path(path)

@@ -31,7 +31,6 @@ from numpy.typing import NDArray
 
 from ..atomic import atomic_path
 from ..model import Scenario
-from ..record import RunRecord
 from ..shapes import AABB, Circle, Line, Plane, Sphere
 from ..tolerances import PICTURE_MIN_SPAN
 from ._data import (
@@ -46,6 +45,7 @@ from ._data import (
     thin_indices,
     uncrowded,
 )
+from ._run import DrawnRun
 
 __all__ = ["DEFAULT_SIZE", "MAX_POINTS", "draw_figure", "save_plot"]
 
@@ -265,7 +265,7 @@ def _draw_momentum(ax: Axes, run: RunArrays, keep: NDArray[np.int64], dims: int)
     ax.legend(fontsize=8, loc="best", ncols=2)
 
 
-def draw_figure(record: RunRecord, scenario: Scenario, size: tuple[int, int] = DEFAULT_SIZE) -> Figure:
+def draw_figure(record: DrawnRun, scenario: Scenario, size: tuple[int, int] = DEFAULT_SIZE) -> Figure:
     """The whole picture of a run as a matplotlib :class:`Figure` of ``size`` pixels (at 100 dpi),
     on its own Agg canvas (no pyplot, no display)."""
     run = RunArrays.build(record, scenario)
@@ -304,7 +304,7 @@ def check_plot_path(path: str) -> Path:
     return check_path(path, "--plot", (".png", ".svg", ".pdf"), "FILE.png (or .svg, .pdf) in an existing folder")
 
 
-def save_plot(record: RunRecord, scenario: Scenario, path: str, *, size: tuple[int, int] | None = None) -> None:
+def save_plot(record: DrawnRun, scenario: Scenario, path: str, *, size: tuple[int, int] | None = None) -> None:
     """Save the picture of a run (see the module's docstring) to ``path``: ``.png`` (or ``.svg``,
     ``.pdf``), ``size`` = (width, height) pixels, default :data:`DEFAULT_SIZE`. The file is
     written whole or not at all. A bad path raises ``InvalidInputError("--plot", ...)``."""
