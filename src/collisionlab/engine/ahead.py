@@ -15,6 +15,7 @@ import time
 from collections.abc import Callable
 
 from ..errors import InvalidInputError
+from .world import load_stepper_kernels
 
 __all__ = ["KERNEL_CHOICES", "KERNEL_KINDS", "compiled_choice", "load_kernels"]
 
@@ -37,16 +38,6 @@ def compiled_choice(kernels: str) -> bool | None:
     if kernels not in KERNEL_CHOICES:
         raise InvalidInputError("kernels", f"must be one of {', '.join(KERNEL_CHOICES)}", got=kernels)
     return None if kernels == "auto" else kernels == "compiled"
-
-
-def _step_world(mode: str, contacts: str, notify: Callable[[str], None] | None) -> None:
-    from ..demos import load_demo
-    from .params import WorldParams
-    from .world import World
-
-    settings = {"mode": mode} if contacts == "events" else {"mode": mode, "contacts": contacts}
-    scenario = load_demo("bouncing-ball").with_settings(**settings)
-    World(scenario, WorldParams(compiled=True), notify=notify, events=False).step(2)
 
 
 def _event_driven(notify: Callable[[str], None] | None) -> None:
@@ -73,12 +64,8 @@ def load_kernels(kind: str, notify: Callable[[str], None] | None = None) -> floa
     if kind in _loaded:
         return 0.0
     started = time.perf_counter()
-    if kind == "euler":
-        _step_world("euler", "events", notify)
-    elif kind == "exact":
-        _step_world("exact", "events", notify)
-    elif kind == "solve":
-        _step_world("exact", "solve", notify)
+    if kind in ("euler", "exact", "solve"):
+        load_stepper_kernels(kind, notify)
     elif kind == "event-driven":
         _event_driven(notify)
     else:

@@ -53,6 +53,7 @@ __all__ = [
     "EXACT_CHUNK_SECONDS",
     "InitialOverlapError",
     "World",
+    "load_stepper_kernels",
     "simulate",
 ]
 
@@ -216,12 +217,10 @@ class World:
         a machine, saying so), now rather than in the first step, so that a timed run never
         counts the compiler; returns the seconds it took: 0.0 for the Python form, for an
         event-driven world (its loop loads when the world is made) and when loaded already."""
-        from .ahead import load_kernels
-
         if not self._compiled or self.event_driven:
             return 0.0
         kind = "solve" if self._solving else "exact" if self._exact else "euler"
-        return load_kernels(kind, None if self._said_compiling else self._notify)
+        return load_stepper_kernels(kind, None if self._said_compiling else self._notify)
 
     def impulses(self) -> tuple[int, int]:
         """Impulses applied so far between two bodies and between a body and an obstacle or
@@ -737,3 +736,27 @@ def simulate(scenario: Scenario, every: int = 1, params: WorldParams | None = No
     (5, Vector3D(x=0.0, y=0.5, z=0.0))
     """
     return World(scenario, params).run(every=every)
+
+
+#: The steppers' kernels this process has loaded (:func:`load_stepper_kernels`).
+_LOADED: set[str] = set()
+
+
+def load_stepper_kernels(kind: str, notify: Callable[[str], None] | None = None) -> float:
+    """Load the compiled kernels of one stepper, ``kind`` ``"euler"``, ``"exact"`` or
+    ``"solve"``, from numba's cache, or compile them (``notify`` is then told so, once), by
+    stepping the lab's bouncing ball twice in that mode; returns the seconds it took, 0.0 when
+    this process has loaded them already. (Here rather than in :mod:`.ahead`, which loads every
+    kind of kernel: a world loading its own kernels reaches nothing above the engine.)"""
+    from ..demos import load_demo
+    from .params import WorldParams
+
+    if kind in _LOADED:
+        return 0.0
+    started = time.perf_counter()
+    mode, contacts = {"euler": ("euler", "events"), "exact": ("exact", "events"), "solve": ("exact", "solve")}[kind]
+    settings = {"mode": mode} if contacts == "events" else {"mode": mode, "contacts": contacts}
+    scenario = load_demo("bouncing-ball").with_settings(**settings)
+    World(scenario, WorldParams(compiled=True), notify=notify, events=False).step(2)
+    _LOADED.add(kind)
+    return time.perf_counter() - started
