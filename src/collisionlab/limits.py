@@ -59,6 +59,7 @@ import numpy as np
 
 from .body_block import Bodies, BodyBlock, BodyColumns
 from .errors import InvalidInputError, OutOfRangeError
+from .tolerances import MAX_RUN_SPEED as _MAX_RUN_SPEED
 from .validate import non_negative, positive, whole_number
 from .vector import Vector3D
 
@@ -123,9 +124,11 @@ MAX_RESTITUTION = 10.0
 #: Exact mode: how many times its smallest radius (or half edge) a body may travel relative to
 #: another in one step; measured: misses begin near 1e7-1e8 (tests/test_limits.py).
 MAX_TRAVEL_PER_SIZE = 1e6
-#: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError.
+#: During a run: metres and m/s. Beyond these the run stops with OutOfRangeError. (The speed
+#: lives with the tolerances: the exact stepper's kernels read it, and a kernel that read this
+#: file would be compiled again whenever a policy here changed.)
 MAX_RUN_COORDINATE = 1e12
-MAX_RUN_SPEED = 1e12
+MAX_RUN_SPEED = _MAX_RUN_SPEED
 #: Balls of the many-body gas (both modes of ``collisionlab gas``): the exact gas holds ~475 bytes
 #: a ball in arrays, ~1 kB resident (bench/README.md), so at most ~10 GB.
 MAX_GAS_BALLS = 10_000_000

@@ -61,7 +61,7 @@ import numpy as np
 
 from .contact import Separation
 from .engine import exact_kernels as ek
-from .engine.state import body_row, static_row
+from .engine.shape_rows import body_row, static_row
 from .errors import InvalidInputError, OutOfRangeError, UnsupportedPairError
 from .narrowphase import (
     separation_aabb_aabb,

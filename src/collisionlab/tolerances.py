@@ -14,6 +14,7 @@ __all__ = [
     "CONTACT_SLOP",
     "FALLBACK_NORMAL",
     "ISCLOSE_REL_TOL",
+    "MAX_RUN_SPEED",
     "PICTURE_MIN_SPAN",
     "REST_SPEED",
     "SLEEP_SPEED",
@@ -114,3 +115,9 @@ TOI_TOUCH: float = 2.0**-40
 #: 16 ulp of 1.0: above the rounding of a 3-term dot product of differences, far below any
 #: approach a scene means (1e-15 m/s at 1 m/s).
 APPROACH_ROUNDING: float = 16 * 2.0**-52
+
+#: Metres per second. The fastest a body may move during a run (``limits.MAX_RUN_SPEED``, the
+#: same number): beyond it the run stops with ``OutOfRangeError`` (a restitution above 1 pumping
+#: speed up without bound). Here because the exact stepper's kernels check it, and the kernels
+#: read only this file of the package's policies.
+MAX_RUN_SPEED: float = 1e12

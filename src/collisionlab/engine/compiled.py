@@ -79,7 +79,7 @@ def _forget_stale() -> None:
     anyway; removing its files first keeps :func:`is_cached` true to what a call will do.)"""
     for stem, callees in _CALLS.items():
         sources = [_HERE / f"{name}.py" for name in (stem, *callees)]
-        sources += [_HERE.parent / "tolerances.py", _HERE.parent / "limits.py", Path(__file__)]
+        sources += [_HERE.parent / "tolerances.py", Path(__file__)]
         forget_stale(_HERE, [stem], sources)
 
 

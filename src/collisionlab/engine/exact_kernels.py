@@ -58,8 +58,7 @@ from typing import Any
 
 import numpy as np
 
-from ..limits import MAX_RUN_SPEED
-from ..tolerances import APPROACH_ROUNDING
+from ..tolerances import APPROACH_ROUNDING, MAX_RUN_SPEED
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]

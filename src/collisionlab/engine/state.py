@@ -19,12 +19,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import Scenario
-from ..shapes import AABB, Circle, Line, Plane, Shape
 from . import step_kernels as sk
+from .shape_rows import body_row, static_row
 
 __all__ = ["BodyArrays", "StaticArrays", "bodies_of", "body_row", "static_names", "static_row", "statics_of"]
-
-Triple = tuple[float, float, float]
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -58,29 +56,6 @@ class StaticArrays:
     @property
     def m(self) -> int:
         return int(self.kind.shape[0])
-
-
-def body_row(shape: Shape) -> tuple[int, Triple]:
-    """A moving shape's ``kind`` and half extents ``ext`` (its centre is its ``pos``).
-
-    >>> body_row(AABB((0, 0), (2, 4)))[1], body_row(Circle((0, 0), 0.5))[1]
-    ((1.0, 2.0, 0.0), (0.5, 0.5, 0.5))
-    """
-    if isinstance(shape, AABB):
-        return (sk.BOX_2D if shape.dim == 2 else sk.BOX_3D), shape.half_size.as_tuple()
-    if isinstance(shape, (Line, Plane)):
-        raise TypeError(f"a {type(shape).__name__} cannot move: it is a static obstacle")
-    return (sk.BALL_2D if isinstance(shape, Circle) else sk.BALL_3D), (shape.radius,) * 3
-
-
-def static_row(shape: Shape) -> tuple[int, Triple, Triple]:
-    """A static shape's ``s_kind``, ``s_a`` and ``s_b``: a box's two corners, or a line's or
-    plane's point and unit normal."""
-    if isinstance(shape, AABB):
-        return sk.STATIC_BOX, shape.min_corner.as_tuple(), shape.max_corner.as_tuple()
-    if isinstance(shape, (Line, Plane)):
-        return sk.STATIC_BOUNDARY, shape.point.as_tuple(), shape.unit_normal.as_tuple()
-    raise TypeError(f"a {type(shape).__name__} cannot be a static obstacle")
 
 
 def bodies_of(scenario: Scenario) -> BodyArrays:
