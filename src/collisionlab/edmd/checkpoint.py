@@ -222,17 +222,26 @@ def _members(stream: Any, refuse: Any) -> tuple[dict[str, NDArray[Any]], dict[st
             names = set(members.files)
             if _HEADER not in names:
                 raise refuse(f"not a collisionlab checkpoint (no {_HEADER!r} in it)")
-            header = _header(members[_HEADER], refuse)
+            header = _header(_array(members, _HEADER, refuse), refuse)
             missing = sorted(set(STATE_ARRAYS) - names)
             if missing:
                 raise refuse(f"incomplete checkpoint: no {', '.join(missing)}")
-            return {name: members[name] for name in STATE_ARRAYS}, header
+            return {name: _array(members, name, refuse) for name in STATE_ARRAYS}, header
     except CheckpointError:
         raise
     except (zipfile.BadZipFile, ValueError, OSError, EOFError, KeyError) as error:
         # a truncated or corrupt zip (a member's CRC), or a bad member
         reason = escape_controls(str(error).splitlines()[0] if str(error) else type(error).__name__)
         raise refuse(f"not a readable checkpoint (truncated or corrupt: {reason})") from None
+
+
+def _array(members: Any, name: str, refuse: Any) -> NDArray[Any]:
+    """Member ``name`` of an open ``.npz``: an array (numpy hands a member that is not one over
+    as bytes)."""
+    value = members[name]
+    if not isinstance(value, np.ndarray):
+        raise refuse(f"not a collisionlab checkpoint ({name!r} is not a numpy array)")
+    return value
 
 
 def _header(raw: NDArray[Any], refuse: Any) -> dict[str, Any]:
