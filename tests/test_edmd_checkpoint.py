@@ -176,6 +176,27 @@ def test_a_run_killed_after_a_checkpoint_resumes_to_the_same_end(tmp_path: Path)
     assert_same_state(saved, tmp_path / "whole.npz")
 
 
+def test_a_run_stopped_by_sigterm_keeps_its_last_checkpoint(tmp_path: Path) -> None:
+    # Handled as Ctrl-C (exit 143) between two calls of the loop, however short the calls
+    # between checkpoints are; the last checkpoint is whole and no temporary file is left.
+    saved = tmp_path / "stopped.npz"
+    child = subprocess.Popen(
+        [sys.executable, "-m", "collisionlab", "gas", "--mode", "exact", "--n", "300", "--dim", "2", "--time",
+         "100000", "--checkpoint", str(saved), "--checkpoint-every", "0.25", "--quiet"],
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+    )  # fmt: skip
+    try:
+        deadline = time.monotonic() + 300.0  # (a bound on a hang, not a timing assertion)
+        while not saved.exists() and child.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.01)
+    finally:
+        child.send_signal(signal.SIGTERM)
+    status, err = finish(child)
+    assert status == 128 + signal.SIGTERM and b"Traceback" not in err, err
+    assert read_checkpoint(saved).time > 0.0
+    assert sorted(p.name for p in tmp_path.iterdir()) == [saved.name]
+
+
 def test_a_normal_run_leaves_only_its_checkpoint(tmp_path: Path) -> None:
     target = tmp_path / "run.npz"
     target.write_text("an older file, replaced whole")

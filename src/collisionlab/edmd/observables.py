@@ -536,11 +536,11 @@ def run_on_world(
         seconds += took
         if until == (done + step) * dt:
             done += step
-            if between is not None:
-                between(done, FRAMES)
         if save and checkpoint is not None:  # (a finite interval: there is one)
             checkpoint(energy_start, seconds)
             saves += 1
+        if between is not None:  # after every call, a checkpoint's too: signals are looked at here
+            between(done, FRAMES)
         if took < CHUNK_SECONDS:
             chunk *= 2
     if checkpoint is not None:
