@@ -49,6 +49,7 @@ __all__ = [
     "FRACTION_SUM_TOLERANCE",
     "FRAMES",
     "SPECIES_FORM",
+    "Checkpointer",
     "ExactGas",
     "Species",
     "measure",
