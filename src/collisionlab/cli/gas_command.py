@@ -48,6 +48,9 @@ _FLAGS = {
     "trajectory": "--trajectory",
     "frames": "--frames",
     "species": "--species",
+    "checkpoint": "--checkpoint",
+    "checkpoint_every": "--checkpoint-every",
+    "resume": "--resume",
 }
 #: ``--mode``: the time-stepped world (default) or the event-driven, exact one.
 _MODES = ("stepped", "exact")
@@ -56,6 +59,33 @@ _MODES = ("stepped", "exact")
 BOUNDARIES = ("walls", "periodic")
 #: ``--frames`` when ``--trajectory`` is given alone: the start and every tenth of the run.
 _DEFAULT_FRAMES = 11
+
+
+#: Options of a run's physics and start: a run continued with ``--resume`` takes them from its
+#: checkpoint, and refuses one given with another value.
+_KEPT_ON_RESUME = ("n", "dim", "fraction", "boundary", "seed", "restitution", "gravity", "tc", "species")
+#: The Namespace attribute listing the options typed on the command line (not left at default).
+_GIVEN = "given_options"
+
+
+def _remember(namespace: argparse.Namespace, dest: str) -> None:
+    setattr(namespace, _GIVEN, frozenset(getattr(namespace, _GIVEN, frozenset())) | {dest})
+
+
+class _Store(argparse._StoreAction):
+    """``store``, remembering that the option was given (``--resume`` compares it)."""
+
+    def __call__(self, parser: Any, namespace: argparse.Namespace, values: Any, option: str | None = None) -> None:
+        super().__call__(parser, namespace, values, option)
+        _remember(namespace, self.dest)
+
+
+class _Append(argparse._AppendAction):
+    """``append``, remembering that the option was given (``--resume`` compares it)."""
+
+    def __call__(self, parser: Any, namespace: argparse.Namespace, values: Any, option: str | None = None) -> None:
+        super().__call__(parser, namespace, values, option)
+        _remember(namespace, self.dest)
 
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -69,13 +99,19 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
             "the speed. With only --n, --dim and --steps this is the benchmark's scenario."
         ),
     )
-    parser.add_argument("--n", type=int, default=10_000, help="number of balls (default 10000)")
-    parser.add_argument("--dim", type=int, default=2, help="2 (discs) or 3 (spheres); default 2")
+    parser.add_argument("--n", type=int, action=_Store, default=10_000, help="number of balls (default 10000)")
+    parser.add_argument("--dim", type=int, action=_Store, default=2, help="2 (discs) or 3 (spheres); default 2")
     parser.add_argument("--steps", type=int, default=1000, help="steps to run (default 1000)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the velocities (default 0)")
-    parser.add_argument("--restitution", type=float, default=1.0, help="e >= 0 (default 1: elastic; > 1 adds energy)")
+    parser.add_argument("--seed", type=int, action=_Store, default=0, help="seed of the velocities (default 0)")
     parser.add_argument(
-        "--gravity", type=float, default=0.0, help="acceleration along -y, radii per time unit^2 (default 0)"
+        "--restitution", type=float, action=_Store, default=1.0, help="e >= 0 (default 1: elastic; > 1 adds energy)"
+    )
+    parser.add_argument(
+        "--gravity",
+        action=_Store,
+        type=float,
+        default=0.0,
+        help="acceleration along -y, radii per time unit^2 (default 0)",
     )
     parser.add_argument(
         "--speeds",
@@ -110,23 +146,59 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         f"end; K = 1: the end only; default {_DEFAULT_FRAMES}); stepped mode: K-1 must divide --steps",
     )
     exact = parser.add_argument_group("exact mode (--mode exact: event-driven, no time step)")
-    exact.add_argument("--mode", choices=_MODES, default="stepped", help="stepped (default) or exact (event-driven)")
-    exact.add_argument("--boundary", choices=BOUNDARIES, default="walls", help="walls (default) or periodic")
-    exact.add_argument("--fraction", type=float, default=0.2, help="area (volume) fraction (default 0.2)")
-    exact.add_argument("--time", type=float, default=10.0, help="simulated time (default 10; radius 1, kT 1)")
     exact.add_argument(
-        "--tc", type=float, default=None, help="TC model: a collision sooner than this after the last is elastic"
+        "--mode", action=_Store, choices=_MODES, default="stepped", help="stepped (default) or exact (event-driven)"
+    )
+    exact.add_argument(
+        "--boundary", action=_Store, choices=BOUNDARIES, default="walls", help="walls (default) or periodic"
+    )
+    exact.add_argument(
+        "--fraction", action=_Store, type=float, default=0.2, help="area (volume) fraction (default 0.2)"
+    )
+    exact.add_argument(
+        "--time",
+        action=_Store,
+        type=float,
+        default=10.0,
+        help="simulated time (default 10; radius 1, kT 1); with --resume the total time to reach (default: the "
+        "resumed run's own)",
+    )
+    exact.add_argument(
+        "--tc",
+        action=_Store,
+        type=float,
+        default=None,
+        help="TC model: a collision sooner than this after the last is elastic",
     )
     exact.add_argument("--events", metavar="FILE", help="stream every collision to FILE.csv or FILE.jsonl")
     exact.add_argument(
         "--species",
-        action="append",
+        action=_Append,
         metavar="NAME:FRACTION:RADIUS[:MASS]",
         help="a mixture: one species (repeat for each), FRACTION of the balls by number, its RADIUS and MASS "
         "(default radius^dim: a ball of radius 1 weighs 1); --fraction is then the packing fraction of all",
     )
+    exact.add_argument(
+        "--checkpoint",
+        metavar="FILE",
+        help="save the run's whole state to FILE (atomically) every --checkpoint-every T and at the end; "
+        "--resume FILE continues it",
+    )
+    exact.add_argument(
+        "--checkpoint-every",
+        type=float,
+        default=None,
+        metavar="T",
+        help="with --checkpoint: simulated time between two checkpoints (default: at the end only)",
+    )
+    exact.add_argument(
+        "--resume",
+        metavar="FILE",
+        help="continue the run saved in FILE (--checkpoint) to the total simulated time --time, ending as the "
+        "run done in one go would, to the last bit; saves to FILE again unless --checkpoint names another",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar and no notes on stderr")
-    parser.set_defaults(func=run)
+    parser.set_defaults(func=run, **{_GIVEN: frozenset()})
 
 
 def _table(report: dict[str, Any]) -> list[str]:
@@ -201,6 +273,7 @@ def _exact_table(report: dict[str, Any]) -> list[str]:
         f"  memory           {report['bytes_per_body']:.0f} bytes per ball",
     ]
     lines += _species_lines(report)
+    lines += _checkpoint_lines(report)
     if report.get("events_file"):
         lines.append(f"  events           {report['events_file']}")
     lines += _trajectory_line(report)
@@ -222,6 +295,16 @@ def _species_lines(report: dict[str, Any]) -> list[str]:
             + f"{pair['rate']:.5g} per {a} ball per unit time"
             + (f", Enskog {theory:.5g}" if theory is not None else "")
         )
+    return lines
+
+
+def _checkpoint_lines(report: dict[str, Any]) -> list[str]:
+    """The checkpoint written and, for a continued run, the one it started from."""
+    lines = []
+    if "resumed_from" in report:
+        lines.append(f"  resumed from     {report['resumed_from']} at time {report['resumed_at']:g}")
+    if "checkpoint" in report:
+        lines.append(f"  checkpoint       {report['checkpoint']} ({report['checkpoints_written']} written)")
     return lines
 
 
@@ -272,8 +355,12 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.observables import FRAMES, ExactGas, parse_species, run_exact_gas
     from ..trajectory import steps_for_frames
 
+    if args.checkpoint is not None or args.resume is not None:
+        return _run_checkpointed(args, streams)
     notes = not args.quiet
     try:
+        if args.checkpoint_every is not None:
+            raise InvalidInputError("checkpoint_every", "needs --checkpoint FILE (or --resume FILE)")
         if args.plot is not None:
             raise InvalidInputError("plot", "is not available with --mode exact")
         species = tuple(parse_species(text) for text in args.species or ())
@@ -340,6 +427,149 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     return 0
 
 
+#: What a resumed run may change (the rest is the checkpoint's), for the messages.
+_MAY_CHANGE = "only --time, --checkpoint, --checkpoint-every, --format and --quiet may change"
+#: Options whose files a continued run could not continue.
+_NOT_WITH_CHECKPOINTS = ("events", "trajectory", "frames", "plot")
+
+
+def _contradictions(args: argparse.Namespace, gas: Any) -> None:
+    """:class:`InvalidInputError` naming the first option given with ``--resume`` whose value
+    is not the checkpoint's run's (``gas``, as it was given)."""
+    from ..edmd.observables import parse_species
+
+    given: frozenset[str] = getattr(args, _GIVEN, frozenset())
+    if "mode" in given and args.mode != "exact":
+        raise InvalidInputError("resume", "continues an exact run: --mode must be exact or left out")
+    for name in _KEPT_ON_RESUME:
+        if name not in given:
+            continue
+        typed, kept = getattr(args, name), getattr(gas, name)
+        if name == "species":
+            typed = tuple(parse_species(text) for text in typed)
+            shown = " ".join(f"{sp.name}:{sp.fraction:g}:{sp.radius:g}" for sp in kept) or "none (one kind of ball)"
+        else:
+            shown = "its default" if kept is None else f"{kept!r}"
+        if typed != kept:
+            raise InvalidInputError(
+                name, f"contradicts the checkpoint, whose run has {shown} (a resumed run keeps its own; {_MAY_CHANGE})"
+            )
+
+
+def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
+    """``--mode exact`` with ``--checkpoint FILE`` or ``--resume FILE``: the run on its
+    event-driven world (one kind of ball or a mixture; the same numbers as the scenario's run),
+    saved atomically every ``--checkpoint-every`` of simulated time and at the end
+    (:mod:`collisionlab.edmd.checkpoint`); a resumed run goes on from its checkpoint to the
+    total time ``--time`` (default: its own) and ends as the run done in one go would."""
+    from dataclasses import replace
+
+    from ..atomic import check_target
+    from ..edmd.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
+    from ..edmd.observables import ExactGas, parse_species, run_end, run_on_world
+    from ..validate import positive
+
+    notes = not args.quiet
+    resumed = None
+    try:
+        for name in _NOT_WITH_CHECKPOINTS:
+            if getattr(args, name) is not None:
+                raise InvalidInputError(
+                    name, "is not available with --checkpoint or --resume (a continued run could not continue its file)"
+                )
+        if _kernels(args) == "python":
+            raise InvalidInputError(
+                "kernels", "python is not available with --mode exact (its loop runs compiled only)"
+            )
+        every = None if args.checkpoint_every is None else positive(args.checkpoint_every, "checkpoint_every")
+        if args.resume is None:
+            species = tuple(parse_species(text) for text in args.species or ())
+            source = ExactGas(
+                n=args.n,
+                dim=args.dim,
+                fraction=args.fraction,
+                boundary=args.boundary,
+                time=args.time,
+                seed=args.seed,
+                restitution=args.restitution,
+                gravity=args.gravity,
+                tc=args.tc,
+                species=species,
+            )
+            gas = source.checked()
+            target = args.checkpoint
+        else:
+            try:
+                resumed = read_checkpoint(args.resume)
+            except CheckpointError as err:
+                streams.err(f"{_PROG}: --resume: {err}")
+                return 65
+            except OSError as err:
+                streams.err(f"{_PROG}: --resume: cannot read {args.resume}: {err.strerror or err}")
+                return 1
+            _contradictions(args, resumed.gas)
+            total = args.time if "time" in getattr(args, _GIVEN, frozenset()) else resumed.gas.time
+            source = replace(resumed.gas, time=total)
+            gas = source.checked()
+            if run_end(gas.time) < resumed.time:
+                raise InvalidInputError(
+                    "time",
+                    f"the total simulated time to reach: must be at least the checkpoint's time {resumed.time!r}",
+                    got=total,
+                )
+            target = args.checkpoint if args.checkpoint is not None else args.resume
+            every = resumed.every if args.checkpoint_every is None else every
+        check_target(target, "checkpoint")
+        compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
+        balls = gas.world() if resumed is None else resumed.world  # (the start checked: a lattice that fits)
+    except InvalidInputError as err:
+        return _bad_value(streams, err)
+    except MemoryError:
+        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
+        return 1
+    if gas.restitution > 1.0:
+        streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+    written = 0
+
+    def save(energy_start: float, seconds: float) -> None:
+        nonlocal written
+        write_checkpoint(target, source, balls, energy_start, seconds, every)
+        written += 1
+
+    bar = ProgressBar(streams, label="gas time")
+    try:
+        with deferred_interrupts() as pending:
+            watch = ChunkWatch(pending, bar if notes else None)
+            report = run_on_world(
+                gas,
+                balls,
+                watch.between,
+                calling=watch.call,
+                energy_start=None if resumed is None else resumed.energy_start,
+                seconds=0.0 if resumed is None else resumed.seconds,
+                every=every,
+                checkpoint=save,
+            )
+        report["compile_seconds"] = compile_seconds
+        report["checkpoint"], report["checkpoints_written"] = target, written
+        if resumed is not None:
+            report["resumed_from"], report["resumed_at"] = args.resume, resumed.time
+    except OutOfRangeError as err:
+        streams.err(f"{_PROG}: {err}")
+        return 65
+    except OSError as err:
+        streams.err(f"{_PROG}: --checkpoint: cannot write {target}: {err.strerror or err}")
+        return 1
+    finally:
+        bar.close()
+    if args.format == "json":
+        streams.out(json.dumps(report))
+    else:
+        for line in _exact_table(report):
+            streams.out(line)
+    return 0
+
+
 def _run_mixture(args: argparse.Namespace, streams: Streams, gas: Any, compile_seconds: float) -> int:
     """``--mode exact --species ...``: the mixture's world made (its start checked), run and
     reported as the exact gas is, its collisions streamed to ``--events`` if asked."""
@@ -382,9 +612,14 @@ def _run_mixture(args: argparse.Namespace, streams: Streams, gas: Any, compile_s
 
 
 def run(args: argparse.Namespace, streams: Streams) -> int:
-    """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure."""
-    if args.mode == "exact":
+    """Run ``collisionlab gas``: 0 done, 2 a bad value (one line naming the flag), 1 a failure,
+    65 a checkpoint that cannot be continued (``--resume``) or a run out of range."""
+    if args.mode == "exact" or args.resume is not None:
         return _run_exact(args, streams)
+    for name in ("checkpoint", "checkpoint_every"):
+        if getattr(args, name) is not None:
+            streams.err(f"{_PROG}: {_FLAGS[name]}: needs --mode exact (the event-driven gas)")
+            return 2
     if args.species:
         streams.err(f"{_PROG}: --species: needs --mode exact (the stepped gas holds balls of one radius and mass)")
         return 2

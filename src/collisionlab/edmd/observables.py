@@ -49,11 +49,14 @@ __all__ = [
     "FRACTION_SUM_TOLERANCE",
     "FRAMES",
     "SPECIES_FORM",
+    "Checkpointer",
     "ExactGas",
     "Species",
     "measure",
     "parse_species",
+    "run_end",
     "run_exact_gas",
+    "run_on_world",
     "species_counts",
     "species_report",
 ]
@@ -449,6 +452,17 @@ def run_exact_gas(
     return report
 
 
+def run_end(time: float) -> float:
+    """The time a run of ``time`` ends at: :data:`FRAMES` steps of ``time / FRAMES``, as the
+    engine steps a scenario (it may differ from ``time`` in the last bit)."""
+    return FRAMES * (time / FRAMES)
+
+
+#: Saves a run: called with the total energy at time 0 and the loop's seconds so far, between
+#: two calls of the loop (the world as stored, never brought to one time before it).
+Checkpointer = Callable[[float, float], None]
+
+
 def _run_mixture(
     gas: ExactGas,
     balls: EventDrivenWorld,
@@ -456,19 +470,60 @@ def _run_mixture(
     calling: Callable[[Callable[[], None]], None] | None,
     sink: EventSink | None,
 ) -> dict[str, Any]:
-    """:func:`run_exact_gas` for a checked mixture: its world run to ``FRAMES`` step ends of
-    ``time / FRAMES`` (as the engine steps a scenario: the same times), in calls of at least
-    :data:`CHUNK_SECONDS`, then measured."""
+    """:func:`run_exact_gas` for a checked mixture: :func:`run_on_world`."""
+    return run_on_world(gas, balls, between, calling, sink)
+
+
+def run_on_world(
+    gas: ExactGas,
+    balls: EventDrivenWorld,
+    between: Callable[[int, int], None] | None = None,
+    calling: Callable[[Callable[[], None]], None] | None = None,
+    sink: EventSink | None = None,
+    *,
+    energy_start: float | None = None,
+    seconds: float = 0.0,
+    every: float | None = None,
+    checkpoint: Checkpointer | None = None,
+) -> dict[str, Any]:
+    """Run a checked ``gas`` (one kind of ball or a mixture) on its :class:`EventDrivenWorld`
+    ``balls`` from its present time to :func:`run_end` of ``gas.time``, in calls ending at the
+    ``FRAMES`` step ends of ``time / FRAMES`` (as the engine steps a scenario: the same
+    result, to the last bit) of at least :data:`CHUNK_SECONDS` each, then measure it: the
+    report of :func:`run_exact_gas`.
+
+    A run continued from a checkpoint passes its ``energy_start`` (the total energy at time 0;
+    ``None``: the world is fresh, at time 0) and the loop's ``seconds`` so far. ``checkpoint``
+    is called at every multiple of ``every`` (simulated time) before the end, and at the end,
+    before anything is measured (measuring brings the bodies to one time). Where the calls of
+    the loop end does not change the run (:meth:`EventDrivenWorld.run`), so a run checkpointed
+    or not, or continued from any of its checkpoints, ends the same to the last bit."""
     import time
 
     from .guard import RunGuard
 
     guard = RunGuard(balls)
-    energy_start = balls.kinetic_energy() + balls.potential_energy()
+    if energy_start is None:
+        energy_start = balls.kinetic_energy() + balls.potential_energy()  # (at time 0: moves nothing)
     dt = gas.time / FRAMES
-    done, chunk, seconds = 0, 1, 0.0
+    end = run_end(gas.time)
+    now = balls.time
+    if end < now:
+        raise InvalidInputError("time", f"must be at least the run's present time {now!r}", got=gas.time)
+    done = min(FRAMES, max(0, int(now // dt)))  # step ends passed already
+    while done < FRAMES and (done + 1) * dt <= now:
+        done += 1
+    interval = math.inf if every is None or checkpoint is None else every
+    saves = math.floor(now / interval) + 1 if math.isfinite(interval) else 1  # the next at saves * interval
+    while saves * interval <= now:
+        saves += 1
+    chunk = 1
     while done < FRAMES:
-        until = (done + min(chunk, FRAMES - done)) * dt
+        step = min(chunk, FRAMES - done)
+        until = (done + step) * dt
+        save = saves * interval <= until and saves * interval < end
+        if save:
+            until = saves * interval
 
         def work(until: float = until) -> None:
             balls.run(until, sink, bring=False, between=guard, every=guard.every)
@@ -480,11 +535,17 @@ def _run_mixture(
             calling(work)
         took = time.perf_counter() - started
         seconds += took
-        done += min(chunk, FRAMES - done)
-        if between is not None:
+        if until == (done + step) * dt:
+            done += step
+        if save and checkpoint is not None:  # (a finite interval: there is one)
+            checkpoint(energy_start, seconds)
+            saves += 1
+        if between is not None:  # after every call, a checkpoint's too: signals are looked at here
             between(done, FRAMES)
         if took < CHUNK_SECONDS:
             chunk *= 2
+    if checkpoint is not None:
+        checkpoint(energy_start, seconds)
     report: dict[str, Any] = {
         "n": gas.n,
         "dim": gas.dim,
@@ -497,7 +558,14 @@ def _run_mixture(
         "tc": gas.tc,
     }
     report.update(measure(balls, energy_start, seconds))
-    report.update(species_report(gas, balls, report["kT"]))
+    if gas.species:
+        report.update(species_report(gas, balls, report["kT"]))
+    else:  # as run_exact_gas reports one kind of ball
+        elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
+        report["compressibility_theory"] = ideal_compressibility(gas.fraction, gas.dim) if elastic_gas else None
+        report["collision_rate_enskog"] = (
+            enskog_collision_rate(gas.fraction, gas.dim, gas.radius, gas.mass, report["kT"]) if elastic_gas else None
+        )
     return report
 
 

@@ -20,7 +20,7 @@ from ..validate import non_negative, positive
 from . import layout as L
 from .loop import BUFFER_FULL, CELL_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
 
-__all__ = ["CACHE_LINE", "EventDrivenWorld", "EventSink", "Tally", "aligned_zeros", "shell_for"]
+__all__ = ["CACHE_LINE", "STATE_ARRAYS", "EventDrivenWorld", "EventSink", "Tally", "aligned_zeros", "shell_for"]
 
 #: Receives a block of events, one row each: time, body a, body b (or ``-1 - wall``), impulse,
 #: and with ``run(..., working=True)`` the rest of the columns :mod:`.layout` documents.
@@ -46,6 +46,12 @@ HORIZON = 4.0
 CELL_SLOTS = 16
 #: Events held before a streamed block is handed to the sink.
 BUFFER_EVENTS = 1 << 16
+#: The arrays that hold a world's whole state (:meth:`EventDrivenWorld.state_arrays`): the
+#: bodies, their lists, cells and calendar, the parameters, accumulators and counters, the
+#: species' tallies and the storage order. ``CF`` is ``CI``'s memory read as float32.
+STATE_ARRAYS = ("F", "IX", "NB", "CI", "heap", "lists", "P", "Q", "G", "K", "S", "KS", "SE", "order")
+#: Those laid out on cache lines (:func:`aligned_zeros`), as the constructor makes them.
+_ALIGNED = ("F", "IX", "NB", "CI", "heap")
 
 
 @dataclass(frozen=True)
@@ -267,6 +273,40 @@ class EventDrivenWorld:
         if self.max_overlap() > 0.0:
             raise InvalidInputError("positions", "balls must not overlap at the start")
         self.G[L.G_MAX_OVERLAP] = 0.0
+
+    def state_arrays(self) -> dict[str, NDArray[Any]]:
+        """The world's whole state, as it is stored (each body at its own time, the calendar
+        as scheduled): the arrays named in :data:`STATE_ARRAYS`, not copied. A world made from
+        them (:meth:`from_state_arrays`) runs on exactly as this one would, to the last bit."""
+        return {name: getattr(self, name) for name in STATE_ARRAYS}
+
+    @classmethod
+    def from_state_arrays(cls, arrays: dict[str, NDArray[Any]], shell: float) -> EventDrivenWorld:
+        """A world holding a copy of ``arrays`` (:meth:`state_arrays`; checked by their reader,
+        :mod:`.checkpoint`), nothing predicted or rebuilt: its future is the saved world's.
+        ``shell`` is the saved world's :attr:`shell` (it decided the lists' reach, ``P_CUT``)."""
+        world = cls.__new__(cls)
+        for name in STATE_ARRAYS:
+            source = arrays[name]
+            if name in _ALIGNED:
+                copy = aligned_zeros(source.shape, source.dtype.type)
+                copy[...] = source
+            else:
+                copy = np.array(source, dtype=source.dtype, copy=True)
+            setattr(world, name, copy)
+        world.CF = world.CI.view(np.float32)
+        F, P, Q = world.F, world.P, world.Q
+        world.n, world.dim = int(F.shape[0]), int(Q[L.Q_DIM])
+        world.sides = P[L.P_L : L.P_L + world.dim].copy()
+        world.radius = float(P[L.P_RADIUS])
+        world.mass = float(F[:, L.MASS].max())
+        world.mixed = bool(P[L.P_MIXED] != 0.0)
+        world.uniform_mass = bool(F[:, L.MASS].min() == F[:, L.MASS].max())
+        world.restitution, world.tc, world.gravity = float(P[L.P_E]), float(P[L.P_TC]), float(P[L.P_G])
+        world.periodic = bool(Q[L.Q_PERIODIC])
+        world.shell = float(shell)
+        world.species_count = max(1, int(world.KS.shape[0]))
+        return world
 
     @staticmethod
     def _per_ball(value: ArrayLike, name: str, n: int) -> NDArray[np.float64]:
