@@ -51,6 +51,8 @@ _FLAGS = {
     "checkpoint": "--checkpoint",
     "checkpoint_every": "--checkpoint-every",
     "resume": "--resume",
+    "observe": "--observe",
+    "samples": "--samples",
 }
 #: ``--mode``: the time-stepped world (default) or the event-driven, exact one.
 _MODES = ("stepped", "exact")
@@ -197,6 +199,19 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         help="continue the run saved in FILE (--checkpoint) to the total simulated time --time, ending as the "
         "run done in one go would, to the last bit; saves to FILE again unless --checkpoint names another",
     )
+    exact.add_argument(
+        "--observe",
+        metavar="LIST",
+        help="structure and transport, a comma list of rdf (g(r) per species pair, its contact value and Z from it) "
+        "and msd (mean-squared displacement, self-diffusion and Enskog's); periodic box only",
+    )
+    exact.add_argument(
+        "--samples",
+        type=int,
+        default=None,
+        metavar="K",
+        help="with --observe: samples at equal times over the run's last 80 percent (default 100)",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar and no notes on stderr")
     parser.set_defaults(func=run, **{_GIVEN: frozenset()})
 
@@ -273,6 +288,7 @@ def _exact_table(report: dict[str, Any]) -> list[str]:
         f"  memory           {report['bytes_per_body']:.0f} bytes per ball",
     ]
     lines += _species_lines(report)
+    lines += _observed_lines(report)
     lines += _checkpoint_lines(report)
     if report.get("events_file"):
         lines.append(f"  events           {report['events_file']}")
@@ -294,6 +310,29 @@ def _species_lines(report: dict[str, Any]) -> list[str]:
             f"  rate {a} -> {b} ".ljust(19)
             + f"{pair['rate']:.5g} per {a} ball per unit time"
             + (f", Enskog {theory:.5g}" if theory is not None else "")
+        )
+    return lines
+
+
+def _observed_lines(report: dict[str, Any]) -> list[str]:
+    """``--observe``'s lines: g's contact values and Z from them, the self-diffusion."""
+    lines = []
+    if "rdf" in report:
+        for pair in report["rdf"]["pairs"]:
+            a, b = pair["species"]
+            lines.append(f"  g({a}-{b}) contact   {pair['contact']:.5g} at r = {pair['sigma']:g}")
+        window = report.get("compressibility_window")
+        lines.append(
+            f"  Z from g(sigma)  {report['compressibility_contact']:.5f}"
+            + (f", collisions over the same window {window:.5f}" if window is not None else "")
+        )
+    if "msd" in report:
+        diffusion, enskog = report["diffusion"], report["diffusion_enskog"]
+        lines.append(
+            "  self-diffusion   "
+            + (f"{diffusion:.5g}" if diffusion is not None else "n/a")
+            + (f", Enskog {enskog:.5g}" if enskog is not None else "")
+            + f" (MSD at {len(report['msd']['t'])} times)"
         )
     return lines
 
@@ -366,6 +405,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         species = tuple(parse_species(text) for text in args.species or ())
         if species and args.trajectory is not None:
             raise InvalidInputError("trajectory", "is not available with --species yet (its files hold one radius)")
+        observe = _observe_checked(args)
         gas = ExactGas(
             n=args.n,
             dim=args.dim,
@@ -389,8 +429,8 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         # before any file is opened.
         # (In a thread of its own: a signal stops the command at once, even inside LLVM's calls.)
         compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
-        if species:  # a mixture runs on its event-driven world alone (run_exact_gas)
-            return _run_mixture(args, streams, gas, compile_seconds)
+        if species or observe:  # a mixture, or an observed run, runs on its event-driven world alone
+            return _run_mixture(args, streams, gas, compile_seconds, observe)
         steps = steps_for_frames(FRAMES, frames) if frames else FRAMES  # a frame ends a step
         world = World(gas.scenario(steps), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
@@ -430,7 +470,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
 #: What a resumed run may change (the rest is the checkpoint's), for the messages.
 _MAY_CHANGE = "only --time, --checkpoint, --checkpoint-every, --format and --quiet may change"
 #: Options whose files a continued run could not continue.
-_NOT_WITH_CHECKPOINTS = ("events", "trajectory", "frames", "plot")
+_NOT_WITH_CHECKPOINTS = ("events", "trajectory", "frames", "plot", "observe", "samples")
 
 
 def _contradictions(args: argparse.Namespace, gas: Any) -> None:
@@ -570,15 +610,42 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
     return 0
 
 
-def _run_mixture(args: argparse.Namespace, streams: Streams, gas: Any, compile_seconds: float) -> int:
-    """``--mode exact --species ...``: the mixture's world made (its start checked), run and
-    reported as the exact gas is, its collisions streamed to ``--events`` if asked."""
+def _observe_checked(args: argparse.Namespace) -> tuple[str, ...]:
+    """``--observe``'s names and ``--samples`` checked (:class:`InvalidInputError`); ``()``
+    without ``--observe``."""
+    from ..edmd.structure import parse_observables
+
+    if args.observe is None:
+        if args.samples is not None:
+            raise InvalidInputError("samples", "needs --observe rdf,msd")
+        return ()
+    observe = parse_observables(args.observe)
+    if args.samples is not None and not 1 <= args.samples <= _MAX_SAMPLES:
+        raise InvalidInputError("samples", f"must be 1 to {_MAX_SAMPLES:,}", got=args.samples)
+    if args.trajectory is not None:
+        raise InvalidInputError("trajectory", "is not available with --observe yet")
+    return observe
+
+
+#: ``--samples`` at most (each one counts every pair of balls for g(r)).
+_MAX_SAMPLES = 100_000
+
+
+def _run_mixture(
+    args: argparse.Namespace, streams: Streams, gas: Any, compile_seconds: float, observe: tuple[str, ...] = ()
+) -> int:
+    """``--mode exact --species ...`` or ``--observe ...``: the gas's event-driven world made
+    (its start checked), run and reported as the exact gas is (the same numbers, to the last
+    bit), its collisions streamed to ``--events`` if asked, observed as ``--observe`` asks."""
     from ..edmd.events_file import rows_file
-    from ..edmd.observables import run_exact_gas
+    from ..edmd.observables import observer_for, run_on_world
+    from ..edmd.structure import DEFAULT_SAMPLES
 
     notes = not args.quiet
     try:
         balls = gas.world()  # the start checked (a lattice that fits) before any file is opened
+        samples = DEFAULT_SAMPLES if args.samples is None else args.samples
+        observer = observer_for(gas, balls, observe, samples) if observe else None
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
@@ -592,7 +659,7 @@ def _run_mixture(args: argparse.Namespace, streams: Streams, gas: Any, compile_s
             watch = ChunkWatch(pending, bar if notes else None)
             with contextlib.ExitStack() as files:
                 sink = files.enter_context(rows_file(args.events)) if args.events is not None else None
-                report = run_exact_gas(gas, None, watch.between, calling=watch.call, sink=sink, balls=balls)
+                report = run_on_world(gas, balls, watch.between, watch.call, sink, observer=observer)
             if args.events is not None:
                 report["events_file"] = args.events
         report["compile_seconds"] = compile_seconds

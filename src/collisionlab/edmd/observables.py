@@ -41,6 +41,7 @@ from .world import EventDrivenWorld, EventSink
 
 if TYPE_CHECKING:
     from ..engine.world import World
+    from .structure import Observer
     from ..trajectory import FrameWriter
 
 __all__ = [
@@ -53,6 +54,7 @@ __all__ = [
     "ExactGas",
     "Species",
     "measure",
+    "observer_for",
     "parse_species",
     "run_end",
     "run_exact_gas",
@@ -485,6 +487,7 @@ def run_on_world(
     seconds: float = 0.0,
     every: float | None = None,
     checkpoint: Checkpointer | None = None,
+    observer: Observer | None = None,
 ) -> dict[str, Any]:
     """Run a checked ``gas`` (one kind of ball or a mixture) on its :class:`EventDrivenWorld`
     ``balls`` from its present time to :func:`run_end` of ``gas.time``, in calls ending at the
@@ -497,7 +500,11 @@ def run_on_world(
     is called at every multiple of ``every`` (simulated time) before the end, and at the end,
     before anything is measured (measuring brings the bodies to one time). Where the calls of
     the loop end does not change the run (:meth:`EventDrivenWorld.run`), so a run checkpointed
-    or not, or continued from any of its checkpoints, ends the same to the last bit."""
+    or not, or continued from any of its checkpoints, ends the same to the last bit.
+
+    ``observer`` (:class:`.structure.Observer`, made for this world and run) is stopped at as
+    it asks (its samples, and the stops that unwrap positions between them), which does not
+    change the run either; its fields (``rdf``, ``msd``, ...) join the report."""
     import time
 
     from .guard import RunGuard
@@ -524,6 +531,10 @@ def run_on_world(
         save = saves * interval <= until and saves * interval < end
         if save:
             until = saves * interval
+        look = observer is not None and observer.next_stop() <= until
+        if observer is not None and look:
+            until = observer.next_stop()
+            save = save and saves * interval <= until
 
         def work(until: float = until) -> None:
             balls.run(until, sink, bring=False, between=guard, every=guard.every)
@@ -537,6 +548,8 @@ def run_on_world(
         seconds += took
         if until == (done + step) * dt:
             done += step
+        if observer is not None and look:
+            observer.stop()
         if save and checkpoint is not None:  # (a finite interval: there is one)
             checkpoint(energy_start, seconds)
             saves += 1
@@ -558,15 +571,32 @@ def run_on_world(
         "tc": gas.tc,
     }
     report.update(measure(balls, energy_start, seconds))
+    elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
     if gas.species:
         report.update(species_report(gas, balls, report["kT"]))
     else:  # as run_exact_gas reports one kind of ball
-        elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
         report["compressibility_theory"] = ideal_compressibility(gas.fraction, gas.dim) if elastic_gas else None
         report["collision_rate_enskog"] = (
             enskog_collision_rate(gas.fraction, gas.dim, gas.radius, gas.mass, report["kT"]) if elastic_gas else None
         )
+    if observer is not None:
+        one_kind = elastic_gas and not gas.species
+        report.update(observer.report(report["kT"], gas.fraction, gas.mass if one_kind else None))
     return report
+
+
+def observer_for(gas: ExactGas, balls: EventDrivenWorld, observe: tuple[str, ...], samples: int) -> Observer:
+    """An :class:`.structure.Observer` of ``observe`` (names of
+    :data:`.structure.OBSERVABLES`) for a checked ``gas`` run on its fresh world ``balls``:
+    ``samples`` equal times to the run's end, the species named as given (one kind: ``A``)."""
+    from .structure import Observer
+
+    if gas.species:
+        kinds = gas.mixture()[0]
+        names = [sp.name for sp in gas.species]
+    else:
+        kinds, names = np.zeros(gas.n, dtype=np.int64), ["A"]
+    return Observer(balls, run_end(gas.time), samples, "rdf" in observe, "msd" in observe, kinds, names)
 
 
 def species_report(gas: ExactGas, world: EventDrivenWorld, kt: float) -> dict[str, Any]:
