@@ -41,8 +41,8 @@ from .world import EventDrivenWorld, EventSink
 
 if TYPE_CHECKING:
     from ..engine.world import World
-    from .structure import Observer
     from ..trajectory import FrameWriter
+    from .structure import Observer
 
 __all__ = [
     "BOUNDARIES",
