@@ -391,7 +391,7 @@ def _cannot_write(streams: Streams, args: argparse.Namespace, err: OSError) -> i
 
 def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.events_file import event_file, event_format
-    from ..edmd.observables import FRAMES, ExactGas, parse_species, run_exact_gas
+    from ..edmd.observables import FRAMES, parse_species, run_exact_gas
     from ..trajectory import steps_for_frames
 
     if args.checkpoint is not None or args.resume is not None:
@@ -406,18 +406,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         if species and args.trajectory is not None:
             raise InvalidInputError("trajectory", "is not available with --species yet (its files hold one radius)")
         observe = _observe_checked(args)
-        gas = ExactGas(
-            n=args.n,
-            dim=args.dim,
-            fraction=args.fraction,
-            boundary=args.boundary,
-            time=args.time,
-            seed=args.seed,
-            restitution=args.restitution,
-            gravity=args.gravity,
-            tc=args.tc,
-            species=species,
-        ).checked()
+        gas = _exact_gas(args, species).checked()
         if _kernels(args) == "python":
             raise InvalidInputError(
                 "kernels", "python is not available with --mode exact (its loop runs compiled only)"
@@ -506,7 +495,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
 
     from ..atomic import check_target
     from ..edmd.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
-    from ..edmd.observables import ExactGas, parse_species, run_end, run_on_world
+    from ..edmd.observables import parse_species, run_end, run_on_world
     from ..validate import positive
 
     notes = not args.quiet
@@ -524,18 +513,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
         every = None if args.checkpoint_every is None else positive(args.checkpoint_every, "checkpoint_every")
         if args.resume is None:
             species = tuple(parse_species(text) for text in args.species or ())
-            source = ExactGas(
-                n=args.n,
-                dim=args.dim,
-                fraction=args.fraction,
-                boundary=args.boundary,
-                time=args.time,
-                seed=args.seed,
-                restitution=args.restitution,
-                gravity=args.gravity,
-                tc=args.tc,
-                species=species,
-            )
+            source = _exact_gas(args, species)
             gas = source.checked()
             target = args.checkpoint
         else:
@@ -780,3 +758,21 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         for line in _table(report):
             streams.out(line)
     return 0
+
+
+def _exact_gas(args: argparse.Namespace, species: tuple[Any, ...]) -> Any:
+    """The event-driven gas (``ExactGas``) the options ask for, not yet checked."""
+    from ..edmd.observables import ExactGas  # (here: the gas's modules load only when it runs)
+
+    return ExactGas(
+        n=args.n,
+        dim=args.dim,
+        fraction=args.fraction,
+        boundary=args.boundary,
+        time=args.time,
+        seed=args.seed,
+        restitution=args.restitution,
+        gravity=args.gravity,
+        tc=args.tc,
+        species=species,
+    )

@@ -433,17 +433,7 @@ def run_exact_gas(
         seconds = advance_in_frames(world, remaining, frames, write_frame, between, calling)
     else:
         seconds = world.advance(remaining, between, calling=calling)
-    report: dict[str, Any] = {
-        "n": gas.n,
-        "dim": gas.dim,
-        "fraction": gas.fraction,
-        "mode": "exact",
-        "boundary": gas.boundary,
-        "seed": gas.seed,
-        "restitution": gas.restitution,
-        "gravity": gas.gravity,
-        "tc": gas.tc,
-    }
+    report: dict[str, Any] = _settings_report(gas)
     report.update(measure(balls, energy_start, seconds))
     report["bytes_per_body"] = world.nbytes() / gas.n
     elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
@@ -559,17 +549,7 @@ def run_on_world(
             chunk *= 2
     if checkpoint is not None:
         checkpoint(energy_start, seconds)
-    report: dict[str, Any] = {
-        "n": gas.n,
-        "dim": gas.dim,
-        "fraction": gas.fraction,
-        "mode": "exact",
-        "boundary": gas.boundary,
-        "seed": gas.seed,
-        "restitution": gas.restitution,
-        "gravity": gas.gravity,
-        "tc": gas.tc,
-    }
+    report: dict[str, Any] = _settings_report(gas)
     report.update(measure(balls, energy_start, seconds))
     elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
     if gas.species:
@@ -654,4 +634,19 @@ def species_report(gas: ExactGas, world: EventDrivenWorld, kt: float) -> dict[st
             for k, (sp, count) in enumerate(zip(gas.species, counts, strict=True))
         ],
         "pair_collision_rates": pairs,
+    }
+
+
+def _settings_report(gas: ExactGas) -> dict[str, Any]:
+    """The head of a gas run's report: the settings it ran with."""
+    return {
+        "n": gas.n,
+        "dim": gas.dim,
+        "fraction": gas.fraction,
+        "mode": "exact",
+        "boundary": gas.boundary,
+        "seed": gas.seed,
+        "restitution": gas.restitution,
+        "gravity": gas.gravity,
+        "tc": gas.tc,
     }
