@@ -18,6 +18,7 @@ from collisionlab.engine.world import World
 from collisionlab.particles import gas_scenario
 from collisionlab.trajectory import frame_steps, steps_for_frames, trajectory_format
 from tests.cli_helpers import finish, on_a_terminal, run_cli, wait_for_cpu_seconds
+from tests.schema_check import check
 
 gsd_hoomd = pytest.importorskip("gsd.hoomd")
 ase_io = pytest.importorskip("ase.io")
@@ -221,4 +222,99 @@ def test_ctrl_c_mid_run_leaves_no_trajectory(tmp_path: Path, name: str) -> None:
         process.send_signal(signal.SIGINT)
         code, err = finish(process, timeout=30)
     assert code == 130, err
+    assert list(tmp_path.iterdir()) == []
+
+
+MIXTURE = ["big:0.5:1", "small:0.5:0.5:0.3"]
+
+
+def mixture_gas(dim: int, boundary: str) -> ExactGas:
+    from collisionlab.edmd.observables import parse_species
+
+    species = tuple(parse_species(text) for text in MIXTURE)
+    return ExactGas(n=120 if dim == 2 else 150, dim=dim, boundary=boundary, time=2.0, seed=3, species=species).checked()
+
+
+def run_mixture(tmp_path: Path, name: str, dim: int, boundary: str, extra: tuple[str, ...] = ()) -> tuple[Path, dict]:
+    path = tmp_path / name
+    gas = mixture_gas(dim, boundary)
+    argv = ["gas", "--mode", "exact", "--n", str(gas.n), "--dim", str(dim), "--boundary", boundary, "--time", "2",
+            "--seed", "3", "--format", "json", "--quiet", *extra]  # fmt: skip
+    for text in MIXTURE:
+        argv += ["--species", text]
+    if name:
+        argv += ["--trajectory", str(path), "--frames", str(FRAMES)]
+    result = run_cli(argv)
+    assert result.status == 0, result.err
+    return path, json.loads(result.out)
+
+
+def mixture_expected(gas: ExactGas) -> list[tuple[float, np.ndarray, np.ndarray]]:
+    """Time, positions and velocities at the frames' times, from the mixture's own world."""
+    from collisionlab.edmd.observables import frame_times
+
+    world = gas.world()
+    out = []
+    for time in frame_times(gas.time, FRAMES):
+        if time > 0:
+            world.run(time, bring=False)
+        positions, velocities = world.state()
+        out.append((world.time, positions, velocities))
+    return out
+
+
+@pytest.mark.parametrize(("dim", "boundary"), [(2, "walls"), (3, "periodic")])
+def test_a_mixture_gsd_holds_each_balls_species_and_diameter(tmp_path: Path, dim: int, boundary: str) -> None:
+    gas = mixture_gas(dim, boundary)
+    path, report = run_mixture(tmp_path, "mix.gsd", dim, boundary)
+    assert report["trajectory"] == str(path) and report["trajectory_frames"] == FRAMES
+    check("gas", report)
+    kinds, radii, _, counts = gas.mixture()
+    assert sorted(set(radii.tolist())) == [0.5, 1.0] and min(counts) > 0
+    side = float(gas.world().sides[0])
+    with gsd_hoomd.open(str(path), "r") as trajectory:
+        assert len(trajectory) == FRAMES
+        for k, (frame, (time, positions, velocities)) in enumerate(zip(trajectory, mixture_expected(gas), strict=True)):
+            assert frame.configuration.step == k and frame.configuration.dimensions == dim
+            assert frame.log["time"][0] == pytest.approx(time, rel=1e-12, abs=1e-12)
+            assert list(frame.particles.types) == ["big", "small"]
+            assert frame.particles.typeid.tolist() == kinds.tolist()
+            np.testing.assert_array_equal(frame.particles.diameter, (2.0 * radii).astype(np.float32))
+            shifted = frame.particles.position.astype(np.float64)[:, :dim] + side / 2
+            if boundary == "periodic":
+                np.testing.assert_allclose(periodic_difference(shifted, positions, side), 0.0, atol=1e-5 * side)
+            else:
+                np.testing.assert_allclose(shifted, positions, atol=1e-5 * side)
+            np.testing.assert_allclose(frame.particles.velocity[:, :dim], velocities, rtol=1e-6, atol=1e-6)
+    assert frame.log["time"][0] == pytest.approx(report["sim_time"], rel=1e-12)
+    # the frames' stops do not change the run: the same numbers as without a trajectory
+    _, plain = run_mixture(tmp_path, "", dim, boundary)
+    for key in ("collisions", "events", "compressibility", "kT", "species", "pair_collision_rates"):
+        assert report[key] == plain[key], key
+
+
+def test_a_mixture_xyz_reads_back_with_ase_to_the_last_bit(tmp_path: Path) -> None:
+    gas = mixture_gas(3, "walls")
+    path, report = run_mixture(tmp_path, "mix.xyz", 3, "walls")
+    kinds, radii, _, _ = gas.mixture()
+    frames = ase_io.read(str(path), index=":")
+    assert len(frames) == FRAMES
+    for k, (atoms, (time, positions, velocities)) in enumerate(zip(frames, mixture_expected(gas), strict=True)):
+        assert atoms.info["Step"] == k and atoms.info["Time"] == pytest.approx(time, rel=1e-12, abs=1e-12)
+        assert atoms.arrays["id"].tolist() == list(range(gas.n))
+        assert atoms.arrays["typeid"].tolist() == kinds.tolist()
+        np.testing.assert_array_equal(atoms.arrays["radius"], radii)
+        np.testing.assert_array_equal(atoms.positions, positions)
+        np.testing.assert_array_equal(atoms.arrays["velo"], velocities)
+    # the species column (OVITO's particle type; ASE keeps Z = 0 and the type ids)
+    lines = path.read_text().splitlines()
+    names = [line.split()[0] for line in lines[2 : 2 + gas.n]]
+    assert names == [["big", "small"][k] for k in kinds]
+    assert float(report["sim_time"]) == pytest.approx(frames[-1].info["Time"], rel=1e-12)
+
+
+def test_a_trajectory_refuses_a_species_name_with_a_space(tmp_path: Path) -> None:
+    result = run_cli(["gas", "--mode", "exact", "--n", "50", "--time", "0.5", "--species", "a b:0.5:1",
+                      "--species", "c:0.5:0.5", "--trajectory", str(tmp_path / "run.xyz"), "--quiet"])  # fmt: skip
+    assert result.status == 2 and result.err.count("\n") == 1 and ": --species: " in result.err, result.err
     assert list(tmp_path.iterdir()) == []

@@ -3,20 +3,24 @@ package) or extended XYZ (``.xyz``, written here, no package needed), frames at 
 
 What ``collisionlab gas --trajectory FILE --frames K`` writes: ``K`` frames at the times
 ``T k / (K - 1)``, ``k = 0 .. K - 1`` (the start and the end included; ``K = 1``: the end only),
-each with every ball's position, velocity and diameter, its type (one species today, named
-:data:`TYPE_NAME`, type id 0), ids in the order the balls were made, the box and the step.
+each with every ball's position, velocity and diameter, its type (species) name and id, ids in
+the order the balls were made, the box and the step. One kind of ball is one type, named
+:data:`TYPE_NAME` (type id 0); a mixture (``--species``) has one type per species, in the order
+given, each ball its own diameter (:class:`Types`).
 
 * **GSD** (HOOMD-blue's schema, read by ``gsd.hoomd``, OVITO, freud, MDAnalysis): the box is
   centred on the origin, so positions are collisionlab's (box ``[0, L]``) minus ``L / 2``;
   in 2D ``configuration.dimensions`` is 2, the box's ``Lz`` is 0 and ``z`` is 0. Positions,
-  velocities and diameters are single precision (the schema's). ``configuration.step`` is the
-  step number (an event-driven run has no steps: the frame's index) and the chunk ``log/time``
-  the simulated time (double precision).
+  velocities and diameters are single precision (the schema's); ``particles/types`` holds the
+  type names, ``particles/typeid`` each ball's. ``configuration.step`` is the step number (an
+  event-driven run has no steps: the frame's index) and the chunk ``log/time`` the simulated
+  time (double precision).
 * **Extended XYZ** (ASE, OVITO): the box ``[0, L]`` as it is (``Lattice``, origin at 0; in 2D its
   third vector is zero and ``z`` is 0), ``pbc`` ``T`` along periodic axes, ``Time`` and ``Step``
-  in the comment line, and per ball ``species pos velo radius id Z`` with numbers written to 17
-  digits (read back to the last bit). ``Z`` (atomic number) is 0: ASE needs a chemical element,
-  and 0 is its dummy one (``X``); ``species`` keeps the type name for OVITO.
+  in the comment line, and per ball ``species pos velo radius id typeid Z`` with numbers written
+  to 17 digits (read back to the last bit). ``species`` is the ball's type name (OVITO's
+  particle type), ``typeid`` its index among the types. ``Z`` (atomic number) is 0: ASE needs a
+  chemical element, and 0 is its dummy one (``X``; ASE then keeps ``typeid`` but not the name).
 
 With walls, the box written is the one the walls bound (``pbc`` ``F`` in XYZ; GSD's box has no
 flag for it). A file is written beside its target and renamed over it only when the run ends
@@ -28,6 +32,7 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, TYPE_CHECKING, Any, Protocol
 
@@ -45,6 +50,7 @@ __all__ = [
     "TRAJECTORY_FORMATS",
     "TYPE_NAME",
     "FrameWriter",
+    "Types",
     "advance_in_frames",
     "check_frames",
     "frame_steps",
@@ -56,12 +62,53 @@ __all__ = [
 
 #: File extensions and the format each means.
 TRAJECTORY_FORMATS: dict[str, str] = {".gsd": "gsd", ".xyz": "xyz"}
-#: The type (species) name of the balls: one species today, type id 0.
+#: The type (species) name of the balls of one kind (type id 0).
 TYPE_NAME = "A"
 #: At most this many frames (each a step of the run: an event-driven run's steps shrink with them).
 MAX_FRAMES = 1_000_000
 
 FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Types:
+    """The balls' types (species) and sizes for a trajectory: ``names`` (one per type, in
+    order), each ball's type id ``ids`` (``(n,)``, indices into ``names``) and radius ``radii``
+    (``(n,)``), in the order the balls were made.
+
+    >>> t = Types.one_kind(3, 0.5)
+    >>> t.names, t.ids.tolist(), t.radii.tolist()
+    (('A',), [0, 0, 0], [0.5, 0.5, 0.5])
+    """
+
+    names: tuple[str, ...]
+    ids: NDArray[np.int64]
+    radii: FloatArray
+
+    @classmethod
+    def one_kind(cls, n: int, radius: float, name: str = TYPE_NAME) -> Types:
+        """``n`` balls of one type ``name`` and one ``radius``."""
+        return cls((name,), np.zeros(n, dtype=np.int64), np.full(n, float(radius)))
+
+    def checked(self) -> Types:
+        """The same types, validated (:class:`InvalidInputError`, field ``species``): names
+        printable, without spaces (an XYZ column) and unique, ids within them, one id and one
+        positive finite radius per ball."""
+        names = tuple(str(name) for name in self.names)
+        for name in names:
+            if not name or not name.isprintable() or any(c.isspace() for c in name):
+                raise InvalidInputError("species", "a name in a trajectory must be printable, without spaces", got=name)
+        if len(set(names)) != len(names):
+            raise InvalidInputError("species", "each name once in a trajectory", got=", ".join(names))
+        ids = np.asarray(self.ids, dtype=np.int64).reshape(-1)
+        radii = np.asarray(self.radii, dtype=np.float64).reshape(-1)
+        if ids.shape != radii.shape:
+            raise InvalidInputError("species", "one type id and one radius per ball", got=(ids.size, radii.size))
+        if ids.size and (ids.min() < 0 or ids.max() >= len(names)):
+            raise InvalidInputError("species", f"type ids must be 0 to {len(names) - 1}", got=int(ids.max()))
+        if not np.all(np.isfinite(radii) & (radii > 0)):
+            raise InvalidInputError("species", "radii must be finite and > 0")
+        return Types(names, ids, radii)
 
 
 class FrameWriter(Protocol):
@@ -164,29 +211,41 @@ def _padded(values: FloatArray) -> FloatArray:
 
 
 class _XyzWriter:
-    def __init__(self, out: IO[str], sides: tuple[float, ...], periodic: bool, radius: float, type_name: str) -> None:
-        self._out, self._radius = out, radius
+    def __init__(self, out: IO[str], sides: tuple[float, ...], periodic: bool, types: Types) -> None:
+        self._out = out
         lx, ly, lz = _box3(sides)
         flags = " ".join("T" if periodic and k < len(sides) else "F" for k in range(3))
         self._head = (
             f'Lattice="{lx!r} 0 0 0 {ly!r} 0 0 0 {lz!r}" '
-            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:id:I:1:Z:I:1 "
+            "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:id:I:1:typeid:I:1:Z:I:1 "
             f'pbc="{flags}"'
         )
-        self._row = type_name.replace("%", "%%") + " %.17g %.17g %.17g %.17g %.17g %.17g %.17g %d 0"
+        n = types.ids.size
+        # the columns that do not change: species first, radius, id and type id after the numbers
+        self._names = np.array(types.names, dtype=object)[types.ids]
+        self._radii = types.radii.astype(object)
+        self._ids = np.arange(n).astype(object)
+        self._typeids = types.ids.astype(object)
+        self._row = "%s" + " %.17g" * 7 + " %d %d 0"
 
     def __call__(self, step: int, time: float, positions: FloatArray, velocities: FloatArray) -> None:
         n = positions.shape[0]
         self._out.write(f"{n}\n{self._head} Time={float(time)!r} Step={int(step)}\n")
-        table = np.column_stack([_padded(positions), _padded(velocities), np.full(n, self._radius), np.arange(n)])
+        table = np.empty((n, 10), dtype=object)
+        table[:, 0] = self._names
+        table[:, 1:7] = np.column_stack([_padded(positions), _padded(velocities)])
+        table[:, 7] = self._radii
+        table[:, 8] = self._ids
+        table[:, 9] = self._typeids
         np.savetxt(self._out, table, fmt=self._row)
 
 
 class _GsdWriter:
-    def __init__(
-        self, trajectory: Any, sides: tuple[float, ...], periodic: bool, radius: float, type_name: str
-    ) -> None:
-        self._file, self._radius, self._type, self._periodic = trajectory, radius, type_name, periodic
+    def __init__(self, trajectory: Any, sides: tuple[float, ...], periodic: bool, types: Types) -> None:
+        self._file, self._periodic = trajectory, periodic
+        self._types = list(types.names)
+        self._typeid = types.ids.astype(np.uint32)
+        self._diameter = (2.0 * types.radii).astype(np.float32)
         self._dim = len(sides)
         self._box = np.array(_box3(sides))
 
@@ -203,11 +262,11 @@ class _GsdWriter:
             half = (self._box / 2.0).astype(np.float32)
             centred = np.where((centred >= half) & (half > 0), centred - 2 * half, centred)
         frame.particles.N = n
-        frame.particles.types = [self._type]
-        frame.particles.typeid = np.zeros(n, dtype=np.uint32)
+        frame.particles.types = self._types
+        frame.particles.typeid = self._typeid
         frame.particles.position = centred
         frame.particles.velocity = _padded(velocities).astype(np.float32)
-        frame.particles.diameter = np.full(n, 2.0 * self._radius, dtype=np.float32)
+        frame.particles.diameter = self._diameter
         frame.log["time"] = np.array([time], dtype=np.float64)
         self._file.append(frame)
 
@@ -225,20 +284,21 @@ def trajectory_file(
     path: str | Path,
     sides: tuple[float, ...],
     periodic: bool,
-    radius: float,
-    type_name: str = TYPE_NAME,
+    types: Types,
 ) -> Iterator[FrameWriter]:
-    """A :class:`FrameWriter` into ``path`` (``.gsd`` or ``.xyz``), for balls of ``radius`` in the
-    box ``[0, sides]`` (2 or 3 lengths; ``periodic`` or walled). The file replaces ``path`` when
-    the block ends without error; otherwise nothing is left (see the module's docstring)."""
+    """A :class:`FrameWriter` into ``path`` (``.gsd`` or ``.xyz``), for the balls ``types``
+    names (each one's type and radius; :meth:`Types.one_kind` for balls of one kind) in the box
+    ``[0, sides]`` (2 or 3 lengths; ``periodic`` or walled). The file replaces ``path`` when the
+    block ends without error; otherwise nothing is left (see the module's docstring)."""
     kind = trajectory_format(path)
     sides = tuple(float(s) for s in sides)
+    types = types.checked()  # before a file is opened
     if kind == "xyz":
         with atomic_stream(path) as out:
-            yield _XyzWriter(out, sides, periodic, radius, type_name)
+            yield _XyzWriter(out, sides, periodic, types)
         return
     require_gsd()
     import gsd.hoomd
 
     with atomic_path(path) as temporary, gsd.hoomd.open(name=str(temporary), mode="w") as trajectory:
-        yield _GsdWriter(trajectory, sides, periodic, radius, type_name)
+        yield _GsdWriter(trajectory, sides, periodic, types)

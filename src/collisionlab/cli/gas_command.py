@@ -372,13 +372,14 @@ def _trajectory_checked(args: argparse.Namespace) -> int:
     return frames
 
 
-def _trajectory(args: argparse.Namespace, sides: tuple[float, ...], periodic: bool, radius: float) -> Any:
-    """The frame writer of ``--trajectory`` (a context manager), or one that yields ``None``."""
+def _trajectory(args: argparse.Namespace, sides: tuple[float, ...], periodic: bool, types: Any) -> Any:
+    """The frame writer of ``--trajectory`` (a context manager) for the balls ``types``
+    (:class:`~collisionlab.trajectory.Types`), or one that yields ``None``."""
     from ..trajectory import trajectory_file
 
     if args.trajectory is None:
         return contextlib.nullcontext(None)
-    return trajectory_file(args.trajectory, sides, periodic, radius)
+    return trajectory_file(args.trajectory, sides, periodic, types)
 
 
 def _cannot_write(streams: Streams, args: argparse.Namespace, err: OSError) -> int:
@@ -392,7 +393,7 @@ def _cannot_write(streams: Streams, args: argparse.Namespace, err: OSError) -> i
 def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.events_file import event_file, event_format
     from ..edmd.observables import FRAMES, parse_species, run_exact_gas
-    from ..trajectory import steps_for_frames
+    from ..trajectory import Types, steps_for_frames
 
     if args.checkpoint is not None or args.resume is not None:
         return _run_checkpointed(args, streams)
@@ -403,8 +404,6 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         if args.plot is not None:
             raise InvalidInputError("plot", "is not available with --mode exact")
         species = tuple(parse_species(text) for text in args.species or ())
-        if species and args.trajectory is not None:
-            raise InvalidInputError("trajectory", "is not available with --species yet (its files hold one radius)")
         observe = _observe_checked(args)
         gas = _exact_gas(args, species).checked()
         if _kernels(args) == "python":
@@ -419,7 +418,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         # (In a thread of its own: a signal stops the command at once, even inside LLVM's calls.)
         compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
         if species or observe:  # a mixture, or an observed run, runs on its event-driven world alone
-            return _run_mixture(args, streams, gas, compile_seconds, observe)
+            return _run_mixture(args, streams, gas, compile_seconds, observe, frames)
         steps = steps_for_frames(FRAMES, frames) if frames else FRAMES  # a frame ends a step
         world = World(gas.scenario(steps), notify=streams.err if notes else None, events=args.events is not None)
     except InvalidInputError as err:
@@ -437,7 +436,8 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
             with contextlib.ExitStack() as files:
                 if args.events is not None:
                     world.listen(files.enter_context(event_file(args.events)))
-                write = files.enter_context(_trajectory(args, side, gas.boundary == "periodic", gas.radius))
+                types = Types.one_kind(gas.n, gas.radius)
+                write = files.enter_context(_trajectory(args, side, gas.boundary == "periodic", types))
                 report = run_exact_gas(gas, world, watch.between, frames=frames, write_frame=write, calling=watch.call)
             if args.events is not None:
                 report["events_file"] = args.events
@@ -610,13 +610,19 @@ _MAX_SAMPLES = 100_000
 
 
 def _run_mixture(
-    args: argparse.Namespace, streams: Streams, gas: Any, compile_seconds: float, observe: tuple[str, ...] = ()
+    args: argparse.Namespace,
+    streams: Streams,
+    gas: Any,
+    compile_seconds: float,
+    observe: tuple[str, ...] = (),
+    frames: int = 0,
 ) -> int:
     """``--mode exact --species ...`` or ``--observe ...``: the gas's event-driven world made
     (its start checked), run and reported as the exact gas is (the same numbers, to the last
-    bit), its collisions streamed to ``--events`` if asked, observed as ``--observe`` asks."""
+    bit), its collisions streamed to ``--events`` if asked, observed as ``--observe`` asks,
+    ``frames`` frames written to ``--trajectory`` (each ball's species and diameter)."""
     from ..edmd.events_file import rows_file
-    from ..edmd.observables import observer_for, run_on_world
+    from ..edmd.observables import observer_for, run_on_world, trajectory_types
     from ..edmd.structure import DEFAULT_SAMPLES
 
     notes = not args.quiet
@@ -637,9 +643,16 @@ def _run_mixture(
             watch = ChunkWatch(pending, bar if notes else None)
             with contextlib.ExitStack() as files:
                 sink = files.enter_context(rows_file(args.events)) if args.events is not None else None
-                report = run_on_world(gas, balls, watch.between, watch.call, sink, observer=observer)
+                sides = tuple(float(x) for x in balls.sides)
+                periodic = gas.boundary == "periodic"
+                write = files.enter_context(_trajectory(args, sides, periodic, trajectory_types(gas)))
+                report = run_on_world(
+                    gas, balls, watch.between, watch.call, sink, observer=observer, frames=frames, write_frame=write
+                )
             if args.events is not None:
                 report["events_file"] = args.events
+            if frames:
+                report["trajectory"], report["trajectory_frames"] = args.trajectory, frames
         report["compile_seconds"] = compile_seconds
     except OutOfRangeError as err:
         streams.err(f"{_PROG}: {err}")
@@ -668,7 +681,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     if args.species:
         streams.err(f"{_PROG}: --species: needs --mode exact (the stepped gas holds balls of one radius and mass)")
         return 2
-    from ..trajectory import advance_in_frames, frame_steps
+    from ..trajectory import Types, advance_in_frames, frame_steps
 
     notes = not args.quiet
     try:
@@ -706,7 +719,7 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
         with interrupts_for(world.compiled) as pending:  # compiled: looked for while a chunk runs too
             watch = ChunkWatch(pending, bar if notes else None)
             if frames:
-                with _trajectory(args, (gas.side,) * gas.dim, False, gas.radius) as write:
+                with _trajectory(args, (gas.side,) * gas.dim, False, Types.one_kind(gas.n, gas.radius)) as write:
                     seconds = advance_in_frames(world, steps, frames, write, watch.between, watch.call)
             else:
                 seconds = world.advance(steps, watch.between, calling=watch.call)

@@ -41,7 +41,7 @@ from .world import EventDrivenWorld, EventSink
 
 if TYPE_CHECKING:
     from ..engine.world import World
-    from ..trajectory import FrameWriter
+    from ..trajectory import FrameWriter, Types
     from .structure import Observer
 
 __all__ = [
@@ -53,6 +53,7 @@ __all__ = [
     "Checkpointer",
     "ExactGas",
     "Species",
+    "frame_times",
     "measure",
     "observer_for",
     "parse_species",
@@ -61,6 +62,7 @@ __all__ = [
     "run_on_world",
     "species_counts",
     "species_report",
+    "trajectory_types",
 ]
 
 #: ``collisionlab gas --boundary``: hard walls, or a periodic box.
@@ -408,18 +410,18 @@ def run_exact_gas(
     each compiled call (:meth:`World.advance <collisionlab.engine.world.World.advance>`).
 
     A mixture (``gas.species``) runs on its :class:`EventDrivenWorld` alone, the same loop
-    (the engine's event-driven scenarios hold one radius and mass): ``world``, ``frames`` and
-    ``write_frame`` do not apply (no trajectory yet), ``balls`` is its world if made already
-    (fresh from ``gas.world()``), and ``sink`` receives its collisions
-    (:meth:`EventDrivenWorld.run`'s blocks; the engine's world streams a scenario's itself)."""
+    (the engine's event-driven scenarios hold one radius and mass): ``world`` does not apply,
+    ``balls`` is its world if made already (fresh from ``gas.world()``), ``sink`` receives its
+    collisions (:meth:`EventDrivenWorld.run`'s blocks; the engine's world streams a scenario's
+    itself), and ``frames`` frames are written at the times :func:`frame_times` (``write_frame``
+    made for :func:`trajectory_types`)."""
     from ..engine.event_stepper import EventDrivenStepper
     from ..engine.world import World
 
     gas = gas.checked()
     if gas.species:
-        if write_frame is not None and frames > 0:
-            raise InvalidInputError("trajectory", "is not available for a mixture yet (its files hold one radius)")
-        return _run_mixture(gas, gas.world() if balls is None else balls, between, calling, sink)
+        world_of_balls = gas.world() if balls is None else balls
+        return run_on_world(gas, world_of_balls, between, calling, sink, frames=frames, write_frame=write_frame)
     world = World(gas.scenario(), events=False) if world is None else world
     stepper = world.stepper
     if not isinstance(stepper, EventDrivenStepper):
@@ -455,15 +457,30 @@ def run_end(time: float) -> float:
 Checkpointer = Callable[[float, float], None]
 
 
-def _run_mixture(
-    gas: ExactGas,
-    balls: EventDrivenWorld,
-    between: Callable[[int, int], None] | None,
-    calling: Callable[[Callable[[], None]], None] | None,
-    sink: EventSink | None,
-) -> dict[str, Any]:
-    """:func:`run_exact_gas` for a checked mixture: :func:`run_on_world`."""
-    return run_on_world(gas, balls, between, calling, sink)
+def frame_times(time: float, frames: int) -> list[float]:
+    """The times of ``frames`` trajectory frames over a run of ``time`` on an event-driven world
+    (:func:`run_on_world`): ``end k / (frames - 1)``, ``k = 0 .. frames - 1``, ``end`` the run's
+    :func:`run_end` (the last one exactly); one frame: the end.
+
+    >>> frame_times(2.0, 5), frame_times(2.0, 1)
+    ([0.0, 0.5, 1.0, 1.5, 2.0], [2.0])
+    """
+    end = run_end(time)
+    if frames <= 1:
+        return [end]
+    return [end * k / (frames - 1) for k in range(frames - 1)] + [end]
+
+
+def trajectory_types(gas: ExactGas) -> Types:
+    """The balls of a checked ``gas`` as a trajectory names them
+    (:class:`collisionlab.trajectory.Types`): a mixture's species in the order given, each ball
+    its own; one kind of ball: type ``A`` of :attr:`ExactGas.radius`."""
+    from ..trajectory import Types
+
+    if not gas.species:
+        return Types.one_kind(gas.n, gas.radius)
+    kinds, radii, _, _ = gas.mixture()
+    return Types(tuple(sp.name for sp in gas.species), kinds.astype(np.int64), radii)
 
 
 def run_on_world(
@@ -478,6 +495,8 @@ def run_on_world(
     every: float | None = None,
     checkpoint: Checkpointer | None = None,
     observer: Observer | None = None,
+    frames: int = 0,
+    write_frame: FrameWriter | None = None,
 ) -> dict[str, Any]:
     """Run a checked ``gas`` (one kind of ball or a mixture) on its :class:`EventDrivenWorld`
     ``balls`` from its present time to :func:`run_end` of ``gas.time``, in calls ending at the
@@ -494,7 +513,11 @@ def run_on_world(
 
     ``observer`` (:class:`.structure.Observer`, made for this world and run) is stopped at as
     it asks (its samples, and the stops that unwrap positions between them), which does not
-    change the run either; its fields (``rdf``, ``msd``, ...) join the report."""
+    change the run either; its fields (``rdf``, ``msd``, ...) join the report.
+
+    ``write_frame`` (:class:`collisionlab.trajectory.FrameWriter`) is given ``frames`` frames,
+    at the times :func:`frame_times` (step: the frame's index; each ball where :meth:`state`
+    puts it), stopping there as the observer does: the run is the same with them or without."""
     import time
 
     from .guard import RunGuard
@@ -514,6 +537,12 @@ def run_on_world(
     saves = math.floor(now / interval) + 1 if math.isfinite(interval) else 1  # the next at saves * interval
     while saves * interval <= now:
         saves += 1
+    stops = frame_times(gas.time, frames) if write_frame is not None and frames > 0 else []
+    shot = 0  # frames written
+    while shot < len(stops) and stops[shot] <= now:  # (a fresh world: the start's)
+        assert write_frame is not None
+        write_frame(shot, balls.time, *balls.state())
+        shot += 1
     chunk = 1
     while done < FRAMES:
         step = min(chunk, FRAMES - done)
@@ -525,6 +554,11 @@ def run_on_world(
         if observer is not None and look:
             until = observer.next_stop()
             save = save and saves * interval <= until
+        shoot = shot < len(stops) and stops[shot] <= until
+        if shoot:
+            until = stops[shot]
+            save = save and saves * interval <= until
+            look = look and observer is not None and observer.next_stop() <= until
 
         def work(until: float = until) -> None:
             balls.run(until, sink, bring=False, between=guard, every=guard.every)
@@ -540,6 +574,9 @@ def run_on_world(
             done += step
         if observer is not None and look:
             observer.stop()
+        if shoot and write_frame is not None:
+            write_frame(shot, balls.time, *balls.state())
+            shot += 1
         if save and checkpoint is not None:  # (a finite interval: there is one)
             checkpoint(energy_start, seconds)
             saves += 1
