@@ -130,6 +130,7 @@ def test_the_shipped_sweeps_read() -> None:
         ("sweep-dt", "scenario", 40),
         ("sweep-restitution", "scenario", 7),
         ("sweep-eos", "gas", 27),
+        ("sweep-mixture", "gas", 15),
     ):
         spec = load_sweep(EXAMPLES / f"{name}.toml")
         assert spec.kind == kind and len(spec.tasks()) == rows

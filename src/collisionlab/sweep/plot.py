@@ -5,7 +5,8 @@ deviation (none with one replica). With several parameters, each combination of 
 its own series. A value the runs did not give (no collision at all: the ball tunnelled through)
 is marked along the bottom. For the compressibility of the gas against ``gas.fraction``, the
 hard-ball equation of state (:mod:`.theory`: Carnahan-Starling in 3D, Henderson in 2D) is drawn
-beside the points.
+beside the points; against another parameter of the exact gas, the rows' own
+``compressibility_theory`` (a mixture's: BMCSL in 3D) when the sweep keeps that metric.
 """
 
 from __future__ import annotations
@@ -97,6 +98,8 @@ def save_sweep_plot(path: str, spec: SweepSpec, columns: Sequence[Column], rows:
             grid = [xs_all[0] + (xs_all[-1] - xs_all[0]) * i / 200 for i in range(201)]
             name = "Carnahan-Starling" if dim == 3 else "Henderson (2D Carnahan-Starling)"
             axes.plot(grid, [hard_ball_compressibility(p, dim) for p in grid], "k--", label=name)
+    elif spec.kind == "gas" and y == "compressibility":
+        _theory_beside(axes, spec, rows, x)
     axes.set_xlabel(x)
     axes.set_ylabel(y)
     axes.set_title(spec.title)
@@ -106,6 +109,25 @@ def save_sweep_plot(path: str, spec: SweepSpec, columns: Sequence[Column], rows:
     with atomic_path(target) as temporary:
         figure.savefig(temporary, format=target.suffix.lower().lstrip("."))
     return note
+
+
+def _theory_beside(axes: Any, spec: SweepSpec, rows: Sequence[Mapping[str, Any]], x: str) -> None:
+    """The rows' ``compressibility_theory`` (the exact gas's metric) against ``x``, as a dashed
+    line: BMCSL (or its 2D counterpart) for a mixture, against e.g. a species' radius."""
+    by_x: dict[float, float] = {}
+    for row in rows:
+        value = row.get("compressibility_theory")
+        if not row["error"] and value is not None and not (isinstance(value, float) and math.isnan(value)):
+            by_x[float(row[x])] = float(value)
+    if not by_x:
+        return
+    dim = int(spec.base["dim"])
+    if spec.base.get("species"):
+        name = "BMCSL (mixture)" if dim == 3 else "Santos-Yuste-López de Haro (2D mixture)"
+    else:
+        name = "Carnahan-Starling" if dim == 3 else "Henderson (2D Carnahan-Starling)"
+    xs = sorted(by_x)
+    axes.plot(xs, [by_x[v] for v in xs], "k--", label=name)
 
 
 def _deviation(values: Sequence[float]) -> float:

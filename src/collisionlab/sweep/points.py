@@ -39,6 +39,8 @@ __all__ = [
     "GAS_METRICS",
     "GAS_MODES",
     "SCENARIO_METRICS",
+    "SPECIES_KEYS",
+    "SPECIES_TABLE",
     "Task",
     "check_base",
     "metric_columns",
@@ -77,8 +79,15 @@ EXACT_GAS_DEFAULTS: dict[str, Any] = {
     "restitution": 1.0,
     "gravity": 0.0,
 }
-#: Its keys: the defaults' and ``tc`` (``--tc``; absent: the exact gas's own default).
-EXACT_GAS_KEYS: tuple[str, ...] = (*EXACT_GAS_DEFAULTS, "tc")
+#: Its keys: the defaults', ``tc`` (``--tc``; absent: the exact gas's own default) and ``species``
+#: (a mixture, ``--species``: an array of tables, see :data:`SPECIES_KEYS`; absent: one kind).
+EXACT_GAS_KEYS: tuple[str, ...] = (*EXACT_GAS_DEFAULTS, "tc", "species")
+#: The keys of one species of the exact gas (``[[sweep.gas.species]]``): ``name``, ``fraction``
+#: (by number), ``radius`` and ``mass`` (optional: ``radius^dim``), as ``--species
+#: NAME:FRACTION:RADIUS[:MASS]``; ``gas.species.NAME.KEY`` varies one (not the name).
+SPECIES_KEYS: tuple[str, ...] = ("name", "fraction", "radius", "mass")
+#: The form of a species, for the messages.
+SPECIES_TABLE = "{name, fraction, radius[, mass]}"
 
 _VECTOR = ("x", "y", "z")
 
@@ -120,7 +129,10 @@ GAS_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
 
 #: The same for the exact gas (``collisionlab gas --mode exact``'s report): ``max_overlap`` in
 #: diameters, ``kt`` the temperature at the end, ``compressibility_walls`` from the momentum given
-#: to the walls (empty with a periodic box), ``events`` every event handled.
+#: to the walls (empty with a periodic box), ``events`` every event handled,
+#: ``compressibility_theory`` the equation of state's Z at the row's fraction (Carnahan-Starling,
+#: or Henderson in 2D; a mixture's: BMCSL, or Santos-Yuste-Lopez de Haro in 2D; empty when
+#: inelastic or under gravity).
 EXACT_GAS_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
     "collisions": (("collisions", "int"),),
     "wall_collisions": (("wall_collisions", "int"),),
@@ -133,6 +145,7 @@ EXACT_GAS_METRICS: dict[str, tuple[tuple[str, str], ...]] = {
     "kt": (("kt", "float"),),
     "collision_rate": (("collision_rate", "float"),),
     "compressibility": (("compressibility", "float"),),
+    "compressibility_theory": (("compressibility_theory", "float"),),
     "compressibility_walls": (("compressibility_walls", "float"),),
     "max_overlap": (("max_overlap", "float"),),
     "wall_time": (("wall_time", "float"),),
@@ -257,6 +270,29 @@ def _run_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
 
 
 # --- the exact gas ------------------------------------------------------------------------------
+def _species(given: object) -> tuple[Any, ...]:
+    """The exact gas's ``species`` (an array of tables :data:`SPECIES_TABLE`) as
+    :class:`~collisionlab.edmd.observables.Species`, unchecked (:class:`InvalidInputError`,
+    field ``species``, when not tables of those keys)."""
+    from ..edmd.observables import Species
+
+    if given is None:
+        return ()
+    if not isinstance(given, list) or not all(isinstance(table, Mapping) for table in given):
+        raise InvalidInputError("species", f"must be an array of tables {SPECIES_TABLE} ([[sweep.gas.species]])")
+    out = []
+    for table in given:
+        unknown = sorted(set(table) - set(SPECIES_KEYS))
+        missing = [key for key in ("name", "fraction", "radius") if key not in table]
+        if unknown or missing:
+            what = f"unknown key {unknown[0]!r}" if unknown else f"missing {missing[0]!r}"
+            raise InvalidInputError("species", f"{what}; each species is a table {SPECIES_TABLE}", got=dict(table))
+        if not isinstance(table["name"], str):
+            raise InvalidInputError("species", f"a name must be a string ({SPECIES_TABLE})", got=table["name"])
+        out.append(Species(table["name"], table["fraction"], table["radius"], table.get("mass")))
+    return tuple(out)
+
+
 def _exact_gas(data: Mapping[str, Any], seed: int) -> ExactGas:
     """The exact gas ``collisionlab gas --mode exact --seed SEED`` builds from these parameters."""
     from ..edmd.observables import ExactGas
@@ -271,28 +307,41 @@ def _exact_gas(data: Mapping[str, Any], seed: int) -> ExactGas:
         restitution=data["restitution"],
         gravity=data["gravity"],
         tc=data.get("tc"),
+        species=_species(data.get("species")),
     ).checked()
+
+
+def _momentum(masses: Any, velocities: Any) -> list[float]:
+    return [float(x) for x in masses @ velocities]
 
 
 def _run_exact_gas(data: Mapping[str, Any], seed: int) -> dict[str, Any]:
     from ..edmd.observables import run_exact_gas
 
     gas = _exact_gas(data, seed)
-    world = World(gas.scenario(), events=False)  # compiling the loop (a worker's first task) is not the point's time
-    kinetic_start, momentum_start = world.kinetic_energy(), world.momentum()
-    report = run_exact_gas(gas, world)
+    if gas.species:  # a mixture runs on its event-driven world alone, as collisionlab gas runs it
+        balls = gas.world()  # compiling the loop (a worker's first task) is not the point's time
+        kinetic_start, momentum_start = balls.kinetic_energy(), _momentum(balls.masses, balls.velocities)
+        report = run_exact_gas(gas, balls=balls)
+        kinetic_end, momentum_end = balls.kinetic_energy(), _momentum(balls.masses, balls.velocities)
+    else:
+        world = World(gas.scenario(), events=False)  # (compiling, as above, out of the point's time)
+        kinetic_start, momentum_start = world.kinetic_energy(), list(world.momentum())
+        report = run_exact_gas(gas, world)
+        kinetic_end, momentum_end = world.kinetic_energy(), list(world.momentum())
     return {
         "collisions": report["collisions"],
         "wall_collisions": report["wall_collisions"],
         "events": report["events"],
         "kinetic_energy_start": kinetic_start,
-        "kinetic_energy_end": world.kinetic_energy(),
+        "kinetic_energy_end": kinetic_end,
         "energy_drift": report["energy_drift"],
-        **_vector("momentum_start", list(momentum_start)),
-        **_vector("momentum_end", list(world.momentum())),
+        **_vector("momentum_start", momentum_start),
+        **_vector("momentum_end", momentum_end),
         "kt": report["kT"],
         "collision_rate": report["collision_rate"],
         "compressibility": report["compressibility"],  # the collision virial: exact, no time step
+        "compressibility_theory": report["compressibility_theory"],
         "compressibility_walls": report.get("compressibility_walls"),
         "max_overlap": report["max_overlap"],
         "wall_time": report["seconds"],
@@ -306,7 +355,10 @@ def check_base(kind: str, data: Mapping[str, Any]) -> None:
         from ..edmd.start import lattice
 
         gas = _exact_gas(data, 0)
-        lattice(gas.n, gas.dim, gas.fraction, gas.radius, gas.boundary == "periodic", 0)  # the start fits
+        if gas.species:
+            gas._mixture_start(gas.mixture()[1])  # the start fits
+        else:
+            lattice(gas.n, gas.dim, gas.fraction, gas.radius, gas.boundary == "periodic", 0)  # the start fits
     elif kind == "gas":
         _gas_world(data, 0)
     else:

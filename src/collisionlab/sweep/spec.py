@@ -25,7 +25,11 @@ Paths: ``simulation.KEY``, ``body.NAME.KEY`` and ``static.NAME.KEY`` (NAME is th
 its index in the file, from 0), with an optional ``.x``/``.y``/``.z`` to vary one component of a
 vector; ``gas.KEY`` for the gas. The gas is time-stepped (``collisionlab gas``) unless its table
 says ``mode = "exact"`` (``collisionlab gas --mode exact``: event-driven, with its own keys, see
-:data:`.points.EXACT_GAS_KEYS`); the mode itself cannot be varied. Every problem is a
+:data:`.points.EXACT_GAS_KEYS`); the mode itself cannot be varied. The exact gas may be a
+mixture, its species given as ``[[sweep.gas.species]]`` tables (``name``, ``fraction``,
+``radius``, optional ``mass``: ``--species NAME:FRACTION:RADIUS[:MASS]``), and
+``gas.species.NAME.KEY`` varies one species' ``fraction``, ``radius`` or ``mass`` (the fractions
+must still sum to 1: vary two of them together with ``combine = "zip"``). Every problem is a
 :class:`SweepError` naming the file and the field, in one line.
 """
 
@@ -54,6 +58,7 @@ from .points import (
     GAS_METRICS,
     GAS_MODES,
     SCENARIO_METRICS,
+    SPECIES_KEYS,
     Task,
     check_base,
 )
@@ -238,7 +243,11 @@ def _target(
         component = _COMPONENTS[parts.pop()]
     if kind == "gas":
         exact = data.get("mode") == "exact"
-        allowed_keys = [k for k in (EXACT_GAS_KEYS if exact else GAS_DEFAULTS) if k != "mode"]
+        if exact and parts[:2] == ["gas", "species"] and component is None:
+            return _species_target(source, data, parts, field)
+        allowed_keys = [k for k in (EXACT_GAS_KEYS if exact else GAS_DEFAULTS) if k not in ("mode", "species")]
+        if exact:
+            allowed_keys.append("species.NAME.KEY")
         if parts[0] != "gas" or len(parts) != 2 or parts[1] not in allowed_keys or component is not None:
             which = 'the exact gas (mode = "exact")' if exact else "the gas"
             hint = " (the mode is set in [sweep.gas], not varied)" if path == "gas.mode" else ""
@@ -260,6 +269,23 @@ def _target(
     if component is not None and not isinstance(_get(data, keys), list):
         raise SweepError(source, field, f"needs {'.'.join(parts)} given as a vector in the base to vary one component")
     return tuple(keys), component
+
+
+def _species_target(
+    source: str, data: Mapping[str, Any], parts: list[str], field: str
+) -> tuple[tuple[str | int, ...], None]:
+    """The keys of ``gas.species.NAME.KEY`` in the exact gas's base: its species ``NAME``'s
+    ``KEY`` (``fraction``, ``radius`` or ``mass``)."""
+    varied = [key for key in SPECIES_KEYS if key != "name"]
+    form = f"gas.species.NAME.KEY, KEY one of {', '.join(varied)}"
+    if len(parts) != 4 or parts[3] not in varied:
+        raise SweepError(source, field, f"expected {form}")
+    species = data.get("species") or []
+    names = [table.get("name") for table in species if isinstance(table, Mapping)]
+    if parts[2] not in names:
+        have = ", ".join(str(n) for n in names) or "none: add [[sweep.gas.species]] tables"
+        raise SweepError(source, field, f"the base has no species named {parts[2]!r} (it has: {have})")
+    return ("species", names.index(parts[2]), parts[3]), None
 
 
 def _get(data: Any, keys: Sequence[str | int]) -> Any:
