@@ -147,7 +147,6 @@ def _soonest_pair(
     ri = F[i, RADIUS]
     sigma = ri + ri
     sigma2 = sigma * sigma
-    found = False
     for m in range(IX[i, NNB]):
         j = NB[i, m]
         dt = now - F[j, T]
@@ -167,20 +166,12 @@ def _soonest_pair(
         if mixed:  # each pair its own contact distance (the radius is on the row's second line)
             contact = ri + F[j, RADIUS]
             t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], contact * contact)
-            # The soonest kept without a branch (whether a neighbour is sooner is a coin toss):
-            # the same choice as below, the first of equal times.
-            sooner = t < tmin
-            partner += (j - partner) * int(sooner)
-            found |= sooner
-            tmin = min(t, tmin)
         else:
             t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
-            if t < tmin:
-                tmin = t
-                kind = KIND_PAIR
-                partner = j
-    if found:
-        kind = KIND_PAIR
+        if t < tmin:
+            tmin = t
+            kind = KIND_PAIR
+            partner = j
     return tmin, kind, partner
 
 
