@@ -448,12 +448,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         return _cannot_write(streams, args, err)
     finally:
         bar.close()
-    if args.format == "json":
-        streams.out(json.dumps(report))
-    else:
-        for line in _exact_table(report):
-            streams.out(line)
-    return 0
+    return _emit(args, streams, report)
 
 
 #: What a resumed run may change (the rest is the checkpoint's), for the messages.
@@ -580,12 +575,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
         return 1
     finally:
         bar.close()
-    if args.format == "json":
-        streams.out(json.dumps(report))
-    else:
-        for line in _exact_table(report):
-            streams.out(line)
-    return 0
+    return _emit(args, streams, report)
 
 
 def _observe_checked(args: argparse.Namespace) -> tuple[str, ...]:
@@ -661,12 +651,7 @@ def _run_mixture(
         return _cannot_write(streams, args, err)
     finally:
         bar.close()
-    if args.format == "json":
-        streams.out(json.dumps(report))
-    else:
-        for line in _exact_table(report):
-            streams.out(line)
-    return 0
+    return _emit(args, streams, report)
 
 
 def run(args: argparse.Namespace, streams: Streams) -> int:
@@ -789,3 +774,13 @@ def _exact_gas(args: argparse.Namespace, species: tuple[Any, ...]) -> Any:
         tc=args.tc,
         species=species,
     )
+
+
+def _emit(args: argparse.Namespace, streams: Streams, report: dict[str, Any]) -> int:
+    """Print an exact gas run's report as ``--format`` asks (JSON, or the table); exit status 0."""
+    if args.format == "json":
+        streams.out(json.dumps(report))
+    else:
+        for line in _exact_table(report):
+            streams.out(line)
+    return 0
