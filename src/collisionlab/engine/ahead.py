@@ -47,19 +47,6 @@ def _event_driven(notify: Callable[[str], None] | None) -> None:
     if notify is not None and not is_cached():
         notify("compiling the event-driven kernels (once per machine; about two minutes)...")
     ExactGas(n=20, dim=2, fraction=0.1, time=0.1).world().run(0.1)
-    # A mixture's loop and the observers' pair counts are kernels of their own: a tiny run of each.
-    from ..edmd.observables import observer_for, parse_species, run_on_world
-
-    mixture = ExactGas(
-        n=20,
-        dim=2,
-        fraction=0.1,
-        time=0.1,
-        boundary="periodic",
-        species=(parse_species("a:0.5:1"), parse_species("b:0.5:0.5")),
-    ).checked()
-    balls = mixture.world()
-    run_on_world(mixture, balls, observer=observer_for(mixture, balls, ("rdf", "msd"), 2))
 
 
 def _particles() -> None:
