@@ -26,7 +26,7 @@ EXAMPLES = REPO / "src" / "collisionlab" / "examples"
 #: The scenario files among the examples (``sweep-*.toml`` are sweep files: tests/test_sweep_*.py).
 EXAMPLE_NAMES = sorted(p.stem for p in EXAMPLES.glob("*.toml") if not p.name.startswith("sweep-"))
 #: Examples too heavy to run in full in the test suite, and the steps the tests run them for
-#: instead. ramp-pour (2,000 spheres, 1,500 steps) takes minutes to come to rest; its first 10
+#: instead. ramp-pour (2,000 spheres, 3,500 steps) takes minutes to come to rest; its first 10
 #: steps hold its first collisions (spheres that start 1 cm apart), so the tests still see
 #: events and the ledger, in a few seconds a run. The tests run such an example with
 #: ``heavy_options(name)`` (``--steps N --every N``: the first and last frames only, so its
