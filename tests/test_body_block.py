@@ -138,8 +138,17 @@ def test_a_periodic_box_needs_the_event_driven_stepper() -> None:
     assert caught.value.field == "box.boundary"
     exact = Scenario(Settings(mode="exact"), [block], box=periodic)
     assert exact.event_driven
-    mixed = [block, Body("big", Circle((0, 1.5), 0.4), (0, 0))]  # another radius: the general stepper
-    assert not Scenario(Settings(mode="exact"), mixed, box=Box((-2, -2), (10, 2))).event_driven
+    walls = Box((-2, -2), (10, 2))
+    # Another radius or mass: a mixture, event by event too; a box, an infinite mass or a body's
+    # own restitution: the general exact stepper.
+    for other, driven in [
+        (Body("big", Circle((0, 1.5), 0.4), (0, 0)), True),
+        (Body("heavy", Circle((0, 1.5), 0.4), (0, 0), mass=5.0), True),
+        (Body("crate", AABB((-0.4, 1.1), (0.4, 1.9)), (0, 0)), False),
+        (Body("fixed", Circle((0, 1.5), 0.4), (0, 0), mass=math.inf), False),
+        (Body("bouncy", Circle((0, 1.5), 0.4), (0, 0), restitution=0.5), False),
+    ]:
+        assert Scenario(Settings(mode="exact"), [block, other], box=walls).event_driven is driven, other.name
 
 
 def test_a_block_of_gas_reads_back_from_its_file() -> None:

@@ -16,6 +16,7 @@ import signal
 import stat
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 from typing import Any
 
@@ -202,6 +203,52 @@ def test_ramp_pour_meets_first_the_pair_that_touches_first_in_free_fall() -> Non
     assert close(after[bodies[j]["name"]], tuple(v[j] + fall - swap))
 
 
+def test_gas_mixture_reports_each_table_as_a_species_and_meets_first_the_pair_that_touches_first() -> None:
+    # Two [[gas]] tables of discs (radius 1, mass 1; radius 0.5, mass 0.25) in a box of walls,
+    # e = 1: the event-driven stepper, each disc with its table's radius and mass. The summary's
+    # species are the file's tables; their kT (each kind's kinetic energy averaged over the run)
+    # add up to the kinetic energy, which e = 1 keeps. The first pair to touch, and when, follow
+    # from the first frame in closed form, |dp + dv t| = r_i + r_j (straight flights, the walls
+    # out of reach), and its velocities after are the e = 1 exchange of unequal masses.
+    tables = tomllib.loads(Path(example("gas-mixture")).read_text(encoding="utf-8"))["gas"]
+    result = run_cli(["run", example("gas-mixture"), "--format", "json"])
+    assert result.status == 0, result.err
+    data = result.json()
+    summary = data["summary"]
+    assert [(s["name"], s["count"], s["radius"], s["mass"]) for s in summary["species"]] == [
+        (t["name"], t["count"], t["radius"], t["mass"]) for t in tables
+    ]
+    energy = summary["kinetic_energy_start"]
+    assert summary["kinetic_energy_end"] == pytest.approx(energy, rel=1e-9)
+    assert sum(s["count"] * s["kT"] for s in summary["species"]) == pytest.approx(energy, rel=1e-9)  # d / 2 = 1
+    bodies = data["frames"][0]["bodies"]
+    kind = {t["name"]: t for t in tables}
+    radius = np.array([kind[b["name"].rstrip("0123456789")]["radius"] for b in bodies])
+    mass = np.array([kind[b["name"].rstrip("0123456789")]["mass"] for b in bodies])
+    p = np.array([b["position"] for b in bodies])
+    v = np.array([b["velocity"] for b in bodies])
+    assert 0.5 * float(mass @ (v * v).sum(axis=1)) == pytest.approx(energy, rel=1e-12)
+    dp, dv = p[None, :, :] - p[:, None, :], v[None, :, :] - v[:, None, :]
+    reach = radius[:, None] + radius[None, :]
+    a, b, c = (dv * dv).sum(axis=2), 2 * (dp * dv).sum(axis=2), (dp * dp).sum(axis=2) - reach**2
+    disc = b * b - 4 * a * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        when = np.where((b < 0) & (disc > 0) & (a > 0), (-b - np.sqrt(disc)) / (2 * a), np.inf)
+    i, j = np.unravel_index(np.argmin(when), when.shape)
+    first = data["events"][0]
+    assert not first["static"] and sorted(first["bodies"]) == sorted([bodies[i]["name"], bodies[j]["name"]])
+    assert first["time"] == pytest.approx(when[i, j], rel=1e-9)
+    normal = (dp[i, j] + dv[i, j] * when[i, j]) / reach[i, j]  # from i to j, unit length at contact
+    impulse = -2.0 * float(dv[i, j] @ normal) / (1.0 / mass[i] + 1.0 / mass[j])
+    after = first["velocities_after"]
+    assert close(after[bodies[i]["name"]], tuple(v[i] - impulse / mass[i] * normal))
+    assert close(after[bodies[j]["name"]], tuple(v[j] + impulse / mass[j] * normal))
+    table = run_cli(["run", example("gas-mixture"), "--quiet"]).lines
+    big, small = (s for s in summary["species"])
+    assert f"  species big: 12 balls, radius 1 m, mass 1 kg, kT {big['kT']:.6g} J" in "\n".join(table)
+    assert f"  species small: 24 balls, radius 0.5 m, mass 0.25 kg, kT {small['kT']:.6g} J" in "\n".join(table)
+
+
 def test_every_example_file_is_covered_above() -> None:
     covered = {
         "aabb3d",
@@ -215,6 +262,7 @@ def test_every_example_file_is_covered_above() -> None:
         "newtons-cradle",
         "stack",
         "ramp-pour",
+        "gas-mixture",
     }
     assert set(EXAMPLE_NAMES) == covered
 

@@ -4,6 +4,7 @@ world's frames, events and ledger (values worked by hand or from closed forms)."
 from __future__ import annotations
 
 import math
+import tomllib
 
 import numpy as np
 import pytest
@@ -13,6 +14,7 @@ from collisionlab.edmd.observables import ExactGas
 from collisionlab.engine.event_stepper import EventDrivenStepper
 from collisionlab.engine.world import InitialOverlapError, World
 from collisionlab.model import Body, Box, Scenario, Settings
+from collisionlab.scenario_file import parse_scenario
 from collisionlab.shapes import Circle, Sphere
 from collisionlab.vector import Vector3D
 
@@ -151,3 +153,141 @@ def test_the_event_driven_compile_is_said_only_when_it_happens(monkeypatch: pyte
     said: list[str] = []
     World(_pair(), notify=said.append)
     assert said == ([] if cached else ["compiling the event-driven kernels (once per machine; about two minutes)..."])
+
+
+# --- mixtures: several [[gas]] tables in a box ----------------------------------------------------
+#: Two tables of discs, big (radius 1, mass 1) in the lower half and small (radius 0.5, mass 0.25)
+#: in the upper half of a 20 m box: each table placed on its own lattice, in its own region.
+MIXTURE = """
+[simulation]
+dt = 0.1
+steps = 40
+mode = "exact"
+restitution = {e}
+[box]
+region = [[0, 0], [20, 20]]
+boundary = "{boundary}"
+[[gas]]
+name = "big"
+shape = "circle"
+radius = 1.0
+region = [[0, 0], [20, 10]]
+count = 20
+kT = 1.0
+seed = 1
+[[gas]]
+name = "small"
+shape = "circle"
+radius = {small}
+mass = {mass}
+region = [[0, 10], [20, 20]]
+count = {count}
+kT = 1.0
+seed = 2
+"""
+#: Each table's mass, by the prefix of its bodies' names.
+_MASSES = {"big": 1.0, "small": 0.25}
+
+
+def _mixture(
+    boundary: str = "periodic", e: float = 1.0, small: float = 0.5, mass: float = 0.25, count: int = 40
+) -> Scenario:
+    text = MIXTURE.format(boundary=boundary, e=e, small=small, mass=mass, count=count)
+    return parse_scenario(tomllib.loads(text))
+
+
+def _mass_of(name: str) -> float:
+    return _MASSES[name.rstrip("0123456789")]
+
+
+def _energy_and_momentum(frame: object) -> tuple[float, np.ndarray]:
+    """The kinetic energy and momentum of a frame's bodies, each with its table's mass."""
+    energy, momentum = 0.0, np.zeros(3)
+    for body in frame.bodies:  # type: ignore[attr-defined]
+        m, v = _mass_of(body.name), np.array(body.velocity.as_tuple())
+        energy += 0.5 * m * float(v @ v)
+        momentum += m * v
+    return energy, momentum
+
+
+@pytest.mark.parametrize("boundary", ["periodic", "walls"])
+def test_two_gas_tables_of_two_radii_and_masses_run_event_by_event(boundary: str) -> None:
+    scenario = _mixture(boundary)
+    assert scenario.event_driven
+    world = World(scenario)
+    assert isinstance(world.stepper, EventDrivenStepper)
+    balls = world.stepper.world
+    names = scenario.bodies.names()
+    # Each ball its table's radius and mass, in the order given.
+    assert balls.mixed and balls.radii.tolist() == [1.0 if n.startswith("big") else 0.5 for n in names]
+    assert balls.masses.tolist() == [_mass_of(n) for n in names]
+    record = world.run(every=10)
+    kinds = {tuple(sorted(name.rstrip("0123456789") for name in event.bodies)) for event in record.events}
+    assert ("big", "small") in kinds and ("small", "small") in kinds
+    for event in (e for e in record.events if not e.static):
+        # Each collision: the pair's momentum kept with the tables' masses, its kinetic energy
+        # too (e = 1), and the impulse along the normal: j / m_a and j / m_b.
+        a, b = event.bodies
+        ma, mb = _mass_of(a), _mass_of(b)
+        assert event.masses == (ma, mb)
+        before = {k: np.array(v.as_tuple()) for k, v in event.velocities_before.items()}
+        after = {k: np.array(v.as_tuple()) for k, v in event.velocities_after.items()}
+        assert np.allclose(ma * before[a] + mb * before[b], ma * after[a] + mb * after[b], rtol=0, atol=1e-12)
+        energy = 0.5 * ma * before[a] @ before[a] + 0.5 * mb * before[b] @ before[b]
+        assert 0.5 * ma * after[a] @ after[a] + 0.5 * mb * after[b] @ after[b] == pytest.approx(energy, rel=1e-12)
+        n = np.array(event.normal.as_tuple())
+        j = -2.0 * float((before[b] - before[a]) @ n) / (1.0 / ma + 1.0 / mb)
+        assert np.allclose(after[a], before[a] - j / ma * n, atol=1e-12)
+
+
+def test_an_elastic_mixture_keeps_its_energy_and_in_a_periodic_box_its_momentum() -> None:
+    record = World(_mixture("periodic").with_settings(steps=100)).run(every=100)
+    assert record.collision_total > 200
+    e0, p0 = _energy_and_momentum(record.frames[0])
+    e1, p1 = _energy_and_momentum(record.frames[-1])
+    assert abs(e1 / e0 - 1.0) < 1e-9
+    assert np.linalg.norm(p1 - p0) < 1e-9 * float(np.linalg.norm(p0))
+    assert record.summary()["kinetic_energy_end"] == pytest.approx(e1, rel=1e-12)
+    # Each kind's kT is its kinetic energy averaged over the run: with e = 1 the kinds' sum,
+    # sum of N d kT / 2, is the kinetic energy itself, whatever passed between them.
+    species = record.species or []
+    assert [(s["name"], s["count"], s["radius"], s["mass"]) for s in species] == [
+        ("big", 20, 1.0, 1.0),
+        ("small", 40, 0.5, 0.25),
+    ]
+    assert sum(s["count"] * s["kT"] for s in species) == pytest.approx(e0, rel=1e-9)  # d / 2 = 1 in 2D
+
+
+def test_an_inelastic_mixture_under_gravity_loses_what_theory_says() -> None:
+    # e = 0.8 with g = 9.81 in a box of walls: every collision loses (1 - e^2) / 2 mu v_n^2, mu the
+    # pair's reduced mass (a wall's: the ball's mass), worked here from each event's own numbers.
+    scenario = _mixture("walls", e=0.8).with_settings(gravity=(0, -9.81, 0), steps=20, tc=1e-4)
+    record = World(scenario).run(every=20)
+    assert record.collision_total > 50
+    theory = 0.0
+    for event in record.events:
+        a, b = event.bodies
+        mu = _mass_of(b) if event.static else 1.0 / (1.0 / _mass_of(a) + 1.0 / _mass_of(b))
+        theory -= (1.0 - event.restitution**2) / 2.0 * mu * event.approach_speed**2
+    ledger = record.ledger
+    assert ledger.collisions == pytest.approx(theory, rel=1e-9)
+    assert abs(ledger.residual) < 1e-9 * abs(ledger.energy_start)
+
+
+def test_two_tables_of_equal_balls_run_as_one_table_to_the_last_bit() -> None:
+    # Counted by table, the balls fly and collide exactly as when they are one table: the
+    # kinds only count.
+    two = _mixture("periodic", small=1.0, mass=1.0, count=30)
+    first, second = two.bodies.blocks
+    one = BodyBlock(
+        "g", "circle", (1.0, 1.0, 1.0), np.concatenate([first.positions, second.positions]),
+        np.concatenate([first.velocities, second.velocities]),
+    )  # fmt: skip
+    together = Scenario(two.settings, [one], box=two.box)
+    apart_world, together_world = World(two), World(together)
+    assert apart_world.stepper.species and not together_world.stepper.species  # type: ignore[union-attr]
+    apart, joined = apart_world.run(every=40), together_world.run(every=40)
+    assert np.array_equal(apart_world.position_array, together_world.position_array)
+    assert np.array_equal(apart_world.velocity_array, together_world.velocity_array)
+    assert apart.collision_total == joined.collision_total > 0 and joined.species is None
+    assert [s["count"] for s in apart.species or []] == [20, 30]

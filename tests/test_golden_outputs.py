@@ -13,7 +13,10 @@ collisions, with the first and last frames only. ramp-pour's were written with t
 (commit "ramp-pour: a small random velocity...") by
 ``collisionlab run examples/ramp-pour.toml --steps 10 --every 10 [--format json]``, and written
 again when theory's column of the ledger came to count the contact solve's work (its collisions
-figure, -0.201909 J, unchanged; theory's went from -0.171806 to the same).
+figure, -0.201909 J, unchanged; theory's went from -0.171806 to the same). gas-mixture's (two
+[[gas]] tables of discs run event by event, with their species in the summary) were written with
+the example (commit "scenario files: several [[gas]] tables in a [box] run event by event...") by
+``collisionlab run examples/gas-mixture.toml [--format json]``.
 """
 
 from __future__ import annotations

@@ -21,8 +21,35 @@ from tests.schema_check import check_scenario_text
 BALL = '[[body]]\nname = "ball"\nshape = "sphere"\nposition = [0, 3, 0]\nradius = 0.5\nvelocity = [0, -1, 0]\n'
 FLOOR = '[[static]]\nname = "floor"\nshape = "plane"\npoint = [0, 0, 0]\nnormal = [0, 1, 0]\n'
 
+#: Two [[gas]] tables of discs (radii 1 and 0.5) in a box: each placed on its own lattice, blind
+#: to the other, so in the same region ({big} and {small}) their discs land on each other.
+TWO_TABLES = """
+[simulation]
+mode = "exact"
+[box]
+region = [[0, 0], [20, 20]]
+[[gas]]
+name = "big"
+shape = "circle"
+radius = 1.0
+region = {big}
+count = 20
+[[gas]]
+name = "small"
+shape = "circle"
+radius = 0.5
+region = {small}
+count = 40
+"""
+
 # (name, file text, the field the message must name, words of the expected form)
 BAD_FILES = [
+    (
+        "two gas tables in one region",
+        TWO_TABLES.format(big="[[0, 0], [20, 20]]", small="[[0, 0], [20, 20]]"),
+        "gas[1].region",
+        "each [[gas]] table is placed on its own, blind to the others; give gas[0] and gas[1] regions that do not meet",
+    ),
     ("missing radius", '[[body]]\nshape = "sphere"\nposition = [0, 0, 0]\n', "body[0].radius", "missing"),
     ("missing position", '[[body]]\nshape = "sphere"\nradius = 1\n', "body[0].position", "missing"),
     ("missing shape", "[[body]]\nposition = [0, 0, 0]\nradius = 1\n", "body[0].shape", "missing"),
@@ -332,3 +359,13 @@ def test_a_moving_2d_box_cannot_meet_a_sphere(tmp_path: Path) -> None:
     result = run_cli(["run", str(path)])
     assert result.status == 65, result.err
     assert f"{path}: body[0].shape: " in result.err and "x-y plane" in result.err
+
+
+def test_two_gas_tables_in_regions_of_their_own_are_a_mixture() -> None:
+    text = TWO_TABLES.format(big="[[0, 0], [20, 10]]", small="[[0, 10], [20, 20]]")
+    scenario = parse_scenario(tomllib.loads(check_scenario_text(text)))
+    assert scenario.event_driven and len(scenario.bodies) == 60
+    kinds, labels = scenario.ball_species()
+    assert [(k.name, k.radius, k.mass, k.count) for k in kinds] == [("big", 1.0, 1.0, 20), ("small", 0.5, 1.0, 40)]
+    assert labels.tolist() == [0] * 20 + [1] * 40
+    assert parse_scenario(tomllib.loads(scenario_to_toml(scenario))) == scenario

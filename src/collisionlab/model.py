@@ -11,6 +11,7 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .body import Body, BodyShape, planar
 from .body_block import Bodies, BodyBlock, BodyColumns
@@ -23,6 +24,7 @@ from .vector import Vector3D, as_vector
 
 __all__ = [
     "BOUNDARIES",
+    "BallSpecies",
     "Bodies",
     "Body",
     "BodyBlock",
@@ -144,6 +146,17 @@ class Box:
             faces.append((f"wall {axis}-", self.low.as_tuple(), unit))
             faces.append((f"wall {axis}+", self.high.as_tuple(), tuple(-c + 0.0 for c in unit)))
         return faces  # type: ignore[return-value]
+
+
+@dataclass(frozen=True)
+class BallSpecies:
+    """One kind of ball of an event-driven scenario (:meth:`Scenario.ball_species`): its
+    ``name`` (the ``[[gas]]`` table's), ``radius``, ``mass`` and ``count`` of balls."""
+
+    name: str
+    radius: float
+    mass: float
+    count: int
 
 
 @dataclass(frozen=True, init=False)
@@ -268,8 +281,8 @@ class Scenario:
         if box.boundary == "periodic" and not self.event_driven:
             raise InvalidInputError(
                 "box.boundary",
-                'a periodic box needs mode = "exact" with balls of one radius and mass, no obstacles '
-                'and contacts = "events" (the event-driven stepper)',
+                'a periodic box needs mode = "exact" with balls (all circles or all spheres, of finite mass, '
+                'no restitution of their own), no obstacles and contacts = "events" (the event-driven stepper)',
             )
 
     def _representative_pairs(self, reps: list[Body]) -> list[tuple[Body | Obstacle, Body]]:
@@ -303,18 +316,18 @@ class Scenario:
     def event_driven(self) -> bool:
         """Whether ``mode = "exact"`` runs on the event-driven stepper (:mod:`collisionlab.edmd`:
         neighbour lists, an event calendar, no time step inside a frame's span): when the scenario
-        is hard balls in a box, that is a :class:`Box`, no other obstacles, balls of one kind,
-        radius and mass (finite) with no restitution of their own, and gravity none or along -y,
-        unless its contacts are solved (``contacts = "solve"``: balls poured into a box rest in
-        it). Any other exact scenario runs on the general exact stepper."""
+        is hard balls in a box, that is a :class:`Box`, no other obstacles, balls all circles or
+        all spheres, of finite masses, with no restitution of their own, and gravity none or along
+        -y, unless its contacts are solved (``contacts = "solve"``: balls poured into a box rest in
+        it). The balls may differ in radius and mass (a mixture, :meth:`ball_species`: several
+        ``[[gas]]`` tables). Any other exact scenario runs on the general exact stepper."""
         if self.settings.mode != "exact" or self.settings.contacts == "solve" or self.box is None or self.obstacles:
             return False
-        kinds, halves, masses, own_e = set(), set(), set(), False
+        kinds, finite, own_e = set(), True, False
         for part in self.bodies.parts:
             if isinstance(part, BodyBlock):
                 kinds.add(part.shape)
-                halves.add(part.half)
-                masses.add(part.mass)
+                finite = finite and math.isfinite(part.mass)
                 own_e = own_e or part.restitution is not None
             else:
                 for body in part:
@@ -322,24 +335,51 @@ class Scenario:
                     kinds.add(
                         "circle" if isinstance(shape, Circle) else "sphere" if isinstance(shape, Sphere) else "aabb"
                     )
-                    halves.add(
-                        (shape.radius,) * 3 if isinstance(shape, (Circle, Sphere)) else shape.half_size.as_tuple()
-                    )
-                    masses.add(body.mass)
+                    finite = finite and math.isfinite(body.mass)
                     own_e = own_e or body.restitution is not None
         g = self.settings.gravity
         return (
             len(kinds) == 1
             and kinds <= {"circle", "sphere"}
-            and len(halves) == 1
-            and len(masses) == 1
-            and math.isfinite(next(iter(masses)))
+            and finite
             and not own_e
             and g.x == 0.0
             and g.z == 0.0
             and g.y <= 0.0
             and (g.y == 0.0 or self.box.boundary == "walls")
         )
+
+    def ball_species(self) -> tuple[tuple[BallSpecies, ...], NDArray[np.int64]]:
+        """The kinds of ball of an event-driven scenario (:attr:`event_driven`) and each body's
+        kind (an index into them, the bodies in the order given): one kind per ``[[gas]]`` table
+        (a :class:`~collisionlab.body_block.BodyBlock`, named as it is), then one per radius and
+        mass among the balls given one by one (named after the first of them).
+
+        >>> big = BodyBlock("big", "circle", (1, 1, 1), [[2, 2], [5, 2]], [[1, 0], [0, 1]])
+        >>> small = Body("s", Circle((2, 6), 0.5), (0, 0), mass=0.25)
+        >>> kinds, labels = Scenario(Settings(mode="exact"), [big, small], box=Box((0, 0), (10, 10))).ball_species()
+        >>> [(k.name, k.radius, k.mass, k.count) for k in kinds], labels.tolist()
+        ([('big', 1.0, 1.0, 2), ('s', 0.5, 0.25, 1)], [0, 0, 1])
+        """
+        kinds = [BallSpecies(b.name, b.half[0], b.mass, len(b)) for b in self.bodies.blocks]
+        labels: list[NDArray[np.int64]] = []
+        singles: dict[tuple[float, float], int] = {}
+        block_index = 0
+        for part in self.bodies.parts:
+            if isinstance(part, BodyBlock):
+                labels.append(np.full(len(part), block_index, np.int64))
+                block_index += 1
+                continue
+            own = np.zeros(len(part), np.int64)
+            for i, body in enumerate(part):
+                radius = body.shape.radius if isinstance(body.shape, (Circle, Sphere)) else math.nan
+                k = singles.setdefault((radius, body.mass), len(kinds))
+                if k == len(kinds):
+                    kinds.append(BallSpecies(body.name, radius, body.mass, 0))
+                kinds[k] = replace(kinds[k], count=kinds[k].count + 1)
+                own[i] = k
+            labels.append(own)
+        return tuple(kinds), np.concatenate(labels) if labels else np.zeros(0, np.int64)
 
     def with_settings(self, **changes: object) -> Scenario:
         """A copy with some settings replaced (``dt``, ``steps``, ``mode``...), re-validated."""

@@ -530,6 +530,10 @@ class RunRecord:
     static_impulses: dict[str, list[float]] | None = None
     #: How exact mode treated contacts (``Settings.contacts``): ``"events"`` or ``"solve"``.
     contacts: str = "events"
+    #: An event-driven mixture's kinds of ball (one per ``[[gas]]`` table), each one's ``name``,
+    #: ``count``, ``radius``, ``mass`` and ``kT`` measured (:meth:`EventDrivenStepper.species_report
+    #: <collisionlab.engine.event_stepper.EventDrivenStepper.species_report>`); ``None`` otherwise.
+    species: list[dict[str, Any]] | None = None
 
     @property
     def collision_total(self) -> int:
@@ -633,6 +637,7 @@ class RunRecord:
             "kinetic_energy_start": self.ledger.kinetic_start,
             "kinetic_energy_end": self.ledger.kinetic_end,
             **({} if self.static_impulses is None else {"static_impulses": self.static_impulses}),
+            **({} if self.species is None else {"species": self.species}),
         }
 
     def replay(self, observer: RunObserver) -> None:

@@ -15,7 +15,7 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from .engine.overlap import refuse_overlaps
+from .engine.overlap import InitialOverlapError, refuse_overlaps
 from .errors import CollisionLabError, InvalidInputError, did_you_mean, escape_controls
 from .gas_spec import GasSpec
 from .gas_table import gas_count, place_gas
@@ -314,8 +314,27 @@ def parse_scenario(data: Mapping[str, Any], source: str = "<scenario>", title: s
         names,
     )
     # Here rather than in the world: before any kernel is compiled, and under the file's name.
-    _check(source, lambda: refuse_overlaps(scenario), "body")
+    _check(source, lambda: _refuse_overlaps(scenario, blocks), "body", {"gas": "gas"})
     return scenario
+
+
+def _refuse_overlaps(scenario: Scenario, blocks: list[BodyBlock]) -> None:
+    """:func:`refuse_overlaps`, saying so when the two bodies come from two ``[[gas]]`` tables:
+    each table is placed on a lattice of its own, blind to the others, so two tables whose
+    regions meet may put bodies on each other (the field is then the later table's region)."""
+    try:
+        refuse_overlaps(scenario)
+    except InitialOverlapError as error:
+        tables = [next((i for i, block in enumerate(blocks) if block.names_clash(name)), -1) for name in error.pair]
+        first, second = sorted(tables)
+        if first < 0 or first == second:
+            raise
+        a, b = error.pair
+        raise InvalidInputError(
+            f"gas[{second}].region",
+            f"'{a}' and '{b}' overlap at the start: each [[gas]] table is placed on its own, blind to the others; "
+            f"give gas[{first}] and gas[{second}] regions that do not meet",
+        ) from None
 
 
 def read_toml(path: str | Path, invalid: Callable[[str, str, str], InvalidInputError], kind: str) -> dict[str, Any]:

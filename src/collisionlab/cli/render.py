@@ -292,6 +292,15 @@ def summary_lines(record: RunRecord) -> list[str]:
     )
     if ledger.max_penetration > 0.0:
         lines.append(f"  deepest overlap undone by push-apart: {ledger.max_penetration:.3g} m")
+    # An event-driven mixture: each kind of ball (a [[gas]] table), its kT from its kinetic energy
+    # averaged over the run (under gravity, the end's: it changes in flight too).
+    when = "averaged over the run" if record.gravity == Vector3D(0, 0, 0) else "at the end"
+    for kind in record.species or ():
+        balls = f"{kind['count']} ball{'s' if kind['count'] != 1 else ''}"
+        lines.append(
+            f"  species {kind['name']}: {balls}, radius {kind['radius']:g} m, mass {kind['mass']:g} kg, "
+            f"kT {kind['kT']:.6g} J (2 <E_kin> / (d N), {when})"
+        )
     return lines
 
 

@@ -410,7 +410,7 @@ def run_exact_gas(
     each compiled call (:meth:`World.advance <collisionlab.engine.world.World.advance>`).
 
     A mixture (``gas.species``) runs on its :class:`EventDrivenWorld` alone, the same loop
-    (the engine's event-driven scenarios hold one radius and mass): ``world`` does not apply,
+    (its report, pair rates and theory, is the world's own): ``world`` does not apply,
     ``balls`` is its world if made already (fresh from ``gas.world()``), ``sink`` receives its
     collisions (:meth:`EventDrivenWorld.run`'s blocks; the engine's world streams a scenario's
     itself), and ``frames`` frames are written at the times :func:`frame_times` (``write_frame``

@@ -1,8 +1,8 @@
 """The event-driven stepper: hard balls in a box, run event by event on a world's state.
 
-A scenario of balls of one radius and mass in a :class:`~collisionlab.model.Box` (walls or
-periodic) with ``mode = "exact"`` (:attr:`~collisionlab.model.Scenario.event_driven`) steps
-here, on :class:`~collisionlab.edmd.EventDrivenWorld`: neighbour lists fed by cell lists, one
+A scenario of balls in a :class:`~collisionlab.model.Box` (walls or periodic) with
+``mode = "exact"`` (:attr:`~collisionlab.model.Scenario.event_driven`) steps here, on
+:class:`~collisionlab.edmd.EventDrivenWorld`: neighbour lists fed by cell lists, one
 scheduled event per ball in a calendar, lazy invalidation (F. Smallenburg, Eur. Phys. J. E 45, 22
 (2022)). There is no time step inside: :meth:`EventDrivenStepper.advance` handles every event
 up to the end of the steps asked for, in time order, then brings every ball to that moment, so
@@ -16,6 +16,12 @@ as the engine orients pairs (the body given first is A; a wall is A, its normal 
 ball), so the world records and streams them as any other. The ledger: the collisions' change of
 kinetic energy as measured, beside theory's ``(1 - e^2)/2 mu v_n^2``; no integrator error (exact
 flight) and no push-apart.
+
+A mixture (balls of several radii or masses, or several ``[[gas]]`` tables: the scenario's
+:meth:`~collisionlab.model.Scenario.ball_species`) runs on the same world, each ball with its
+own radius and mass, its collisions and kinetic energy counted by kind;
+:meth:`EventDrivenStepper.species_report` gives each kind's count, radius, mass and ``kT``.
+Balls of one kind are given as one radius and one mass, as they always were.
 """
 
 from __future__ import annotations
@@ -23,12 +29,13 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from types import ModuleType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import InvalidInputError
-from ..model import Box
+from ..model import BallSpecies, Box
 from . import step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
@@ -54,9 +61,11 @@ def default_tc(radius: float, velocities: FloatArray, gravity: float, restitutio
 
 
 class EventDrivenStepper:
-    """Advances ``bodies`` (balls of one radius and mass) in ``box`` event by event; ``statics``
-    are the box's walls as the world lists them (for the overlap check at the start). The
-    ledger of every call since it was made is :attr:`ledger` (``step_kernels.LEDGER_SIZE``)."""
+    """Advances ``bodies`` (balls) in ``box`` event by event; ``statics`` are the box's walls as
+    the world lists them (for the overlap check at the start). The ledger of every call since it
+    was made is :attr:`ledger` (``step_kernels.LEDGER_SIZE``). ``species``: a mixture's kinds
+    of ball and each ball's kind (:meth:`~collisionlab.model.Scenario.ball_species`), each ball
+    then of its kind's radius and mass; ``None``: balls all of the first one's radius and mass."""
 
     def __init__(
         self,
@@ -70,6 +79,7 @@ class EventDrivenStepper:
         tc: float | None,
         record_events: bool = True,
         notify: Callable[[str], None] | None = None,
+        species: tuple[tuple[BallSpecies, ...], NDArray[np.int64]] | None = None,
     ) -> None:
         from ..edmd import EventDrivenWorld
         from ..edmd.compile import is_cached
@@ -80,11 +90,23 @@ class EventDrivenStepper:
         self._origin = np.array(box.low.as_tuple()[:dims])
         self._periodic = box.boundary == "periodic"
         self._box = box
-        radius = float(bodies.ext[0, 0])
-        mass = 1.0 / float(bodies.ima[0])
+        #: A mixture's kinds of ball (empty: balls of one kind) and each ball's kind.
+        self.species: tuple[BallSpecies, ...] = () if species is None else species[0]
+        self._labels = np.zeros(0, np.int64) if species is None else species[1]
+        radius: float | FloatArray
+        mass: float | FloatArray
+        if species is None:
+            radius = float(bodies.ext[0, 0])
+            mass = 1.0 / float(bodies.ima[0])
+            smallest = radius
+        else:  # each ball its kind's (the masses as given, not 1 / (1 / m))
+            radius = np.array([k.radius for k in self.species])[self._labels]
+            mass = np.array([k.mass for k in self.species])[self._labels]
+            smallest = float(radius.min())
+        self._masses = mass
         g = -float(gravity[1])
         if tc is None:
-            tc = default_tc(radius, bodies.vel, g, restitution, params.tc_fraction)
+            tc = default_tc(smallest, bodies.vel, g, restitution, params.tc_fraction)
         self.tc = tc
         if notify is not None and not is_cached():
             notify("compiling the event-driven kernels (once per machine; about two minutes)...")
@@ -99,11 +121,11 @@ class EventDrivenStepper:
                 gravity=g,
                 tc=tc,
                 periodic=self._periodic,
+                species=None if species is None else self._labels,
             )
         except InvalidInputError as error:
-            raise InvalidInputError(
-                "body" if error.field == "positions" else f"simulation.{error.field}", error.problem, error.got
-            ) from None
+            field = {"positions": "body", "sides": "box.region"}.get(error.field, f"simulation.{error.field}")
+            raise InvalidInputError(field, error.problem, error.got) from None
         self.guard = RunGuard(self.world)
         self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
         self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
@@ -134,6 +156,33 @@ class EventDrivenStepper:
             self.bodies.pos[:, :d] = positions + self._origin
             self.bodies.vel[:, :d] = velocities
             self._copied = True
+
+    def species_report(self) -> list[dict[str, Any]]:
+        """A mixture's kinds of ball (empty for balls of one kind), each one's ``name``,
+        ``count``, ``radius``, ``mass`` and ``kT`` measured, ``2 <E_a> / (d N_a)``: ``<E_a>`` its
+        kinetic energy averaged over the time run so far (exact: without gravity it changes only
+        at collisions), or under gravity its kinetic energy now (it changes in flight too). The
+        balls are not moved (:meth:`copy_state`)."""
+        if not self.species:
+            return []
+        world, count = self.world, len(self.species)
+        energies: FloatArray
+        if world.gravity == 0.0:
+            energies = world.species_mean_energy()
+        else:
+            _, velocities = world.state()
+            energy = 0.5 * self._masses * np.einsum("ij,ij->i", velocities, velocities)
+            energies = np.bincount(self._labels, weights=energy, minlength=count).astype(np.float64)
+        return [
+            {
+                "name": kind.name,
+                "count": kind.count,
+                "radius": kind.radius,
+                "mass": kind.mass,
+                "kT": 2.0 * float(energies[k]) / (self.dims * kind.count),
+            }
+            for k, kind in enumerate(self.species)
+        ]
 
     def _rows(self, raw: FloatArray, dt: float, first_step: int, steps: int) -> FloatArray:
         """The loop's event rows (:mod:`collisionlab.edmd.layout`) as the engine's."""

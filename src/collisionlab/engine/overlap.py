@@ -40,7 +40,10 @@ IntArray = NDArray[np.int64]
 
 
 class InitialOverlapError(InvalidInputError):
-    """Two bodies (or a body and an obstacle) overlap at the start."""
+    """Two bodies (or a body and an obstacle) overlap at the start; :attr:`pair` names the two
+    that overlap deepest (when the refusal was made by :func:`refuse_overlaps`)."""
+
+    pair: tuple[str, str] = ("", "")
 
 
 @dataclass
@@ -104,7 +107,9 @@ def refuse_overlaps(scenario: Scenario, slop: float = CONTACT_SLOP) -> None:
         a, b = found.pair
         bodies = scenario.bodies.names()
         name_a = static_names(scenario)[-1 - a] if a < 0 else bodies[a]
-        raise InitialOverlapError("body", overlap_message(found, name_a, bodies[b]))
+        error = InitialOverlapError("body", overlap_message(found, name_a, bodies[b]))
+        error.pair = (name_a, bodies[b])
+        raise error
 
 
 def _static_overlaps(bodies: BodyArrays, statics: StaticArrays, slop: float, found: Overlaps) -> None:

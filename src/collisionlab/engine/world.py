@@ -169,10 +169,14 @@ class World:
             self._stepper = ContactStepper(self._bodies, self._statics, self.dims, self._gravity, self.params, events)
         elif scenario.event_driven:
             assert scenario.box is not None
+            # Several kinds of ball (radii, masses or [[gas]] tables): a mixture, counted by kind.
+            species = scenario.ball_species()
             self._stepper = EventDrivenStepper(
                 self._bodies, self._statics, self.dims, self._gravity, self.params, scenario.box,
-                settings.restitution, settings.tc, events, notify,
+                settings.restitution, settings.tc, events, notify, species if len(species[0]) > 1 else None,
             )  # fmt: skip
+            if self._stepper.species:  # each kind's kT at the start, until the first steps
+                self.record.species = self._stepper.species_report()
         else:
             stepper = ExactStepper if self._exact else EulerStepper
             self._stepper = stepper(self._bodies, self._statics, self.dims, self._gravity, self.params, events)
@@ -424,6 +428,8 @@ class World:
         are only when asked) and the ledger's end values with them."""
         if isinstance(self._stepper, EventDrivenStepper):
             self._stepper.copy_state()
+            if self._stepper.species:
+                self.record.species = self._stepper.species_report()
         ledger, masses = self.record.ledger, self._stored_masses()
         ledger.kinetic_end = self.kinetic_energy(masses)
         ledger.potential_end = self.potential_energy(masses)
