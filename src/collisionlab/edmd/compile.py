@@ -32,7 +32,11 @@ from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
 from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["borrowed", "flag", "is_cached", "jit", "jit_call", "jit_inline", "prefetch"]
+__all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_call", "jit_inline", "prefetch"]
+
+#: What the first compile of these kernels takes on a 2-core machine, for the notice a run or
+#: ``collisionlab compile`` gives (bench/LOG.md, "Compiling the event-driven kernels").
+COMPILE_TAKES = "under a minute"
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _A = TypeVar("_A")
@@ -57,7 +61,8 @@ def jit_call(function: _F) -> _F:
     """As :func:`jit`, for a helper that is called, not inlined by numba (LLVM still inlines it
     where it is small), and allocates nothing: compiled without reference counts, so a call
     passes its arrays as they are (none of numba's ``NRT_incref`` / ``NRT_decref``)."""
-    return cast(_F, numba.njit(cache=True, error_model="numpy", _nrt=False)(function))
+    options: dict[str, Any] = {"cache": True, "error_model": "numpy", "_nrt": False}  # (_nrt: not in numba's stubs)
+    return cast(_F, numba.njit(**options)(function))
 
 
 @jit_call

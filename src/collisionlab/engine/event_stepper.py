@@ -82,7 +82,7 @@ class EventDrivenStepper:
         species: tuple[tuple[BallSpecies, ...], NDArray[np.int64]] | None = None,
     ) -> None:
         from ..edmd import EventDrivenWorld
-        from ..edmd.compile import is_cached
+        from ..edmd.compile import COMPILE_TAKES, is_cached
         from ..edmd.guard import RunGuard
 
         self.bodies, self.statics, self.dims, self.params = bodies, statics, dims, params
@@ -109,7 +109,7 @@ class EventDrivenStepper:
             tc = default_tc(smallest, bodies.vel, g, restitution, params.tc_fraction)
         self.tc = tc
         if notify is not None and not is_cached():
-            notify("compiling the event-driven kernels (once per machine; about two minutes)...")
+            notify(f"compiling the event-driven kernels (once per machine; {COMPILE_TAKES})...")
         try:
             self.world = EventDrivenWorld(
                 bodies.pos[:, :dims] - self._origin,
