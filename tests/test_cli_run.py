@@ -51,6 +51,19 @@ def close(actual: list[float], expected: tuple[float, ...], tol: float = 1e-9) -
 
 
 # --- every example file: the collision step and the velocity after it, worked by hand ------------
+
+
+def _first_touch(dp: np.ndarray, dv: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, int, int]:
+    """Every pair's time of first touch in straight flight, |dp + dv t| = reach (the smaller
+    root of a t^2 + b t + c = 0, inf if they never meet), and the pair that touches first."""
+    a, b, c = (dv * dv).sum(axis=2), 2 * (dp * dv).sum(axis=2), (dp * dp).sum(axis=2) - reach**2
+    disc = b * b - 4 * a * c
+    with np.errstate(divide="ignore", invalid="ignore"):
+        when = np.where((b < 0) & (disc > 0) & (a > 0), (-b - np.sqrt(disc)) / (2 * a), np.inf)
+    i, j = np.unravel_index(np.argmin(when), when.shape)
+    return when, int(i), int(j)
+
+
 def test_aabb3d() -> None:
     # Edge-1 boxes centred at x = 0 and 3.05: gap (3.05 - 0.5) - (0 + 0.5) = 2.05 m, closing at
     # 1 - (-1) = 2 m/s, 0.02 m a step: 2.05 - 0.02 k < 0 first at k = 103 (102.5 is not a step).
@@ -187,11 +200,7 @@ def test_ramp_pour_meets_first_the_pair_that_touches_first_in_free_fall() -> Non
     p = np.array([b["position"] for b in bodies])
     v = np.array([b["velocity"] for b in bodies])
     dp, dv = p[None, :, :] - p[:, None, :], v[None, :, :] - v[:, None, :]
-    a, b, c = (dv * dv).sum(axis=2), 2 * (dp * dv).sum(axis=2), (dp * dp).sum(axis=2) - 1.0
-    disc = b * b - 4 * a * c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        when = np.where((b < 0) & (disc > 0) & (a > 0), (-b - np.sqrt(disc)) / (2 * a), np.inf)
-    i, j = np.unravel_index(np.argmin(when), when.shape)
+    when, i, j = _first_touch(dp, dv, np.ones((len(p), len(p))))
     first = data["events"][0]
     assert not first["static"] and sorted(first["bodies"]) == sorted([bodies[i]["name"], bodies[j]["name"]])
     assert first["time"] == pytest.approx(when[i, j], rel=1e-9)
@@ -230,11 +239,7 @@ def test_gas_mixture_reports_each_table_as_a_species_and_meets_first_the_pair_th
     assert 0.5 * float(mass @ (v * v).sum(axis=1)) == pytest.approx(energy, rel=1e-12)
     dp, dv = p[None, :, :] - p[:, None, :], v[None, :, :] - v[:, None, :]
     reach = radius[:, None] + radius[None, :]
-    a, b, c = (dv * dv).sum(axis=2), 2 * (dp * dv).sum(axis=2), (dp * dp).sum(axis=2) - reach**2
-    disc = b * b - 4 * a * c
-    with np.errstate(divide="ignore", invalid="ignore"):
-        when = np.where((b < 0) & (disc > 0) & (a > 0), (-b - np.sqrt(disc)) / (2 * a), np.inf)
-    i, j = np.unravel_index(np.argmin(when), when.shape)
+    when, i, j = _first_touch(dp, dv, reach)
     first = data["events"][0]
     assert not first["static"] and sorted(first["bodies"]) == sorted([bodies[i]["name"], bodies[j]["name"]])
     assert first["time"] == pytest.approx(when[i, j], rel=1e-9)
