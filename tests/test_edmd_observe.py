@@ -5,11 +5,12 @@ free flight (closed form), the self-diffusion against Enskog's, and the command 
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from collisionlab.edmd.observables import ExactGas, observer_for, run_on_world
+from collisionlab.edmd.observables import ExactGas, observer_for, run_end, run_on_world
 from collisionlab.edmd.structure import BIN_WIDTH, pair_histogram, rdf_from_counts
 from collisionlab.edmd.theory import carnahan_starling
 from tests.cli_helpers import run_cli
@@ -127,6 +128,34 @@ def test_cli_observe_json_and_table() -> None:
     assert table.status == 0 and "Z from g(sigma)" in table.out and "self-diffusion" in table.out
 
 
+@pytest.mark.parametrize(("time", "samples"), [(2.0, 3), (0.7, 7), (10.0, 100)])
+def test_the_last_sample_is_the_run_end_and_every_sample_is_taken(time: float, samples: int) -> None:
+    # 0.4 + 1.6 * 3 / 3 rounds to 2.0000000000000004, past the run's end (2.0): that sample
+    # was lost (2 of 3 taken) until the last sample time became the end itself.
+    gas = ExactGas(n=50, dim=2, fraction=0.2, boundary="periodic", time=time).checked()
+    world = gas.world()
+    observer = observer_for(gas, world, ("rdf", "msd"), samples)
+    assert observer.sample_times[-1] == run_end(time)
+    report = run_on_world(gas, world, observer=observer)
+    assert report["rdf"]["samples"] == samples and len(report["msd"]["t"]) == samples
+
+
+def test_cli_observe_with_a_trajectory_writes_the_frames_it_writes_without(tmp_path: Path) -> None:
+    # Observing stops the loop at its samples and the trajectory at its frames; neither changes
+    # the run: the frames are byte for byte those of the same run without --observe.
+    argv = ["gas", "--mode", "exact", "--n", "300", "--boundary", "periodic", "--time", "2", "--frames", "5",
+            "--species", "big:0.5:1", "--species", "small:0.5:0.5", "--format", "json", "--quiet"]  # fmt: skip
+    observed = run_cli([*argv, "--observe", "rdf,msd", "--samples", "3", "--trajectory", str(tmp_path / "o.xyz")])
+    assert observed.status == 0, observed.err
+    plain = run_cli([*argv, "--trajectory", str(tmp_path / "p.xyz")])
+    assert plain.status == 0, plain.err
+    report = observed.json()
+    assert report["rdf"]["samples"] == 3 and len(report["msd"]["t"]) == 3
+    assert report["trajectory_frames"] == 5 and report["collisions"] == plain.json()["collisions"] > 0
+    written = (tmp_path / "o.xyz").read_bytes()
+    assert written.count(b"Lattice=") == 5 and written == (tmp_path / "p.xyz").read_bytes()
+
+
 def test_cli_observe_of_a_mixture() -> None:
     result = run_cli(["gas", "--mode", "exact", "--n", "400", "--boundary", "periodic", "--time", "2",
                       "--species", "big:0.5:1", "--species", "small:0.5:0.5", "--observe", "rdf",
@@ -144,10 +173,6 @@ def test_cli_observe_of_a_mixture() -> None:
         (["--observe", "rdf", "--boundary", "walls"], "collisionlab gas: --observe: needs --boundary periodic"),
         (["--samples", "5"], "collisionlab gas: --samples: needs --observe rdf,msd"),
         (["--observe", "msd", "--samples", "0"], "collisionlab gas: --samples: must be 1 to 100,000 (got 0)"),
-        (
-            ["--observe", "msd", "--trajectory", "t.xyz"],
-            "collisionlab gas: --trajectory: is not available with --observe",
-        ),
         (
             ["--observe", "msd", "--checkpoint", "c.npz"],
             "collisionlab gas: --observe: is not available with --checkpoint",

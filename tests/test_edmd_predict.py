@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib
 import math
 
 import numpy as np
@@ -96,3 +97,17 @@ def test_leave_time() -> None:
 
 def test_nearest_image() -> None:
     assert (nearest_image(9.0, 10.0), nearest_image(-9.0, 10.0), nearest_image(4.0, 10.0)) == (-1.0, 1.0, 4.0)
+
+
+@pytest.mark.parametrize("stem", ["calendar", "cells", "compile", "loop", "predict", "structure"])
+def test_a_kernel_compiled_on_its_own_is_the_event_driven_packages_own(stem: str) -> None:
+    # numba keys a function's cache entry on its source file: the engine's geometry kernels,
+    # compiled on their own here too, shared the engine's entries, and a process that loaded
+    # them from there looked for the engine's compiled module (ModuleNotFoundError). So a
+    # kernel of another file is only ever inlined here.
+    from numba.core.registry import CPUDispatcher
+
+    module = importlib.import_module(f"collisionlab.edmd.{stem}")
+    for name, value in vars(module).items():
+        if isinstance(value, CPUDispatcher) and value.targetoptions.get("inline") != "always":
+            assert value.py_func.__module__.startswith("collisionlab.edmd."), name

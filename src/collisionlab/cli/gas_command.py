@@ -590,8 +590,6 @@ def _observe_checked(args: argparse.Namespace) -> tuple[str, ...]:
     observe = parse_observables(args.observe)
     if args.samples is not None and not 1 <= args.samples <= _MAX_SAMPLES:
         raise InvalidInputError("samples", f"must be 1 to {_MAX_SAMPLES:,}", got=args.samples)
-    if args.trajectory is not None:
-        raise InvalidInputError("trajectory", "is not available with --observe yet")
     return observe
 
 

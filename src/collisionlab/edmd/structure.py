@@ -223,7 +223,8 @@ class Observer:
             raise InvalidInputError("observe", f"rdf counts every pair: at most {RDF_MAX_BALLS:,} balls", got=world.n)
         self.origin = OBSERVE_FROM * self.end
         span = self.end - self.origin
-        self.sample_times = [self.origin + span * k / self.samples for k in range(1, self.samples + 1)]
+        # (the last one the run's end itself: origin + span may round past it, and that sample be lost)
+        self.sample_times = [self.origin + span * k / self.samples for k in range(1, self.samples)] + [self.end]
         self._origin_taken = False
         self._virial = 0.0
         pos, vel = world.state()
