@@ -54,6 +54,7 @@ COLLISION_LAYER = (
     "collisionlab.engine.exact_impulses",
     "collisionlab.engine.exact_rest",
     "collisionlab.engine.exact_sweeps",
+    "collisionlab.engine.exact_settle",
     "collisionlab.engine.exact_impacts",
     "collisionlab.engine.step_kernels",
     "collisionlab.engine.event_heap",

@@ -22,7 +22,15 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
 
     monkeypatch.setattr(compiled, "forget_stale", spy)
     compiled._forget_stale()
-    exact = ["exact_flight", "exact_time_of_impact", "exact_impulses", "exact_rest", "exact_sweeps", "exact_impacts"]
+    exact = [
+        "exact_flight",
+        "exact_time_of_impact",
+        "exact_impulses",
+        "exact_rest",
+        "exact_sweeps",
+        "exact_settle",
+        "exact_impacts",
+    ]
     assert set(dropped) == {
         "geometry_kernels",
         "event_heap",

@@ -76,7 +76,7 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
     "exact_impulses": ("geometry_kernels",),
     "exact_time_of_impact": ("geometry_kernels", "step_kernels", "exact_flight"),
     "exact_rest": ("geometry_kernels", "step_kernels", "exact_impulses"),
-    "exact_impacts": (
+    "exact_settle": (
         "geometry_kernels",
         "step_kernels",
         "event_heap",
@@ -84,9 +84,18 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
         "exact_time_of_impact",
         "exact_impulses",
         "exact_rest",
-        "exact_sweeps",
     ),
-    "exact_kernels": ("step_kernels", "exact_flight", "exact_rest", "exact_sweeps", "exact_impacts"),
+    "exact_impacts": (
+        "step_kernels",
+        "event_heap",
+        "exact_flight",
+        "exact_time_of_impact",
+        "exact_impulses",
+        "exact_rest",
+        "exact_sweeps",
+        "exact_settle",
+    ),
+    "exact_kernels": ("step_kernels", "exact_flight", "exact_rest", "exact_sweeps", "exact_settle", "exact_impacts"),
     "contact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
 }
 
@@ -100,6 +109,7 @@ _GLOBAL_NAMES = {
     "exact_impulses": "_EXACT_IMPULSES",
     "exact_time_of_impact": "_EXACT_TIME_OF_IMPACT",
     "exact_rest": "_EXACT_REST",
+    "exact_settle": "_EXACT_SETTLE",
     "exact_impacts": "_EXACT_IMPACTS",
 }
 

@@ -3,17 +3,15 @@ candidate pair's time of impact (:mod:`.exact_time_of_impact`) and every rest's 
 (:mod:`.exact_rest`) pushed onto a binary heap (:mod:`.event_heap`, lazy invalidation: each
 pair's prediction carries a version, a kicked body's pairs get new ones), then popped in time
 order. At each impact the two bodies are brought to its time (:mod:`.exact_flight`), the impulse
-is applied (:mod:`.exact_impulses`; ``e = 0`` below ``rest_speed``), the contacts it touches are
-settled (sequential impulses through every pair in contact that approaches fast enough to close
-its gap before the step ends), the kicked bodies' rests are looked at again (they may lift off)
-and their pairs predicted again. A kick past the bounds the candidates were listed for
-(:mod:`.exact_sweeps`) cuts the step there (``RESTART``).
+is applied (:mod:`.exact_impulses`; ``e = 0`` below ``rest_speed``), what it touches is settled
+(:mod:`.exact_settle`: the contacts it drives together, the rests of the bodies it kicked) and
+the kicked bodies' pairs are predicted again. A kick past the bounds the candidates were listed
+for (:mod:`.exact_sweeps`) cuts the step there (``RESTART``).
 
-Owns ``MAX_IMPACTS_PER_STEP``, ``RELAX_IMPULSES``, ``HEAP_ROOM``, what the phase returns with
-(``DONE``, ``RESTART``, ``ROOM``), the predictions (:func:`_predict_all`), the impacts
-(:func:`_impacts`) and the separations kept while one event is resolved (:func:`_remember`,
-:func:`_recalled`). It imports the other exact files and the kernels they call; it must not
-import the loop (:mod:`.exact_kernels`), which calls it.
+Owns ``MAX_IMPACTS_PER_STEP``, ``HEAP_ROOM``, what the phase returns with (``DONE``,
+``RESTART``, ``ROOM``), the predictions (:func:`_predict_all`) and the impacts (:func:`_impacts`).
+It imports the other exact files and the kernels they call; it must not import the loop
+(:mod:`.exact_kernels`), which calls it.
 """
 
 from __future__ import annotations
@@ -23,8 +21,7 @@ from typing import Any
 
 from ..tolerances import MAX_RUN_SPEED
 
-if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
-    gk: Any = globals()["_GEOMETRY"]
+if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
     sk: Any = globals()["_STEP"]
     eh: Any = globals()["_HEAP"]
     ef: Any = globals()["_EXACT_FLIGHT"]
@@ -32,21 +29,20 @@ if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are comp
     ej: Any = globals()["_EXACT_IMPULSES"]
     er: Any = globals()["_EXACT_REST"]
     es: Any = globals()["_EXACT_SWEEPS"]
+    st: Any = globals()["_EXACT_SETTLE"]
 else:
     from . import event_heap as eh
     from . import exact_flight as ef
     from . import exact_impulses as ej
     from . import exact_rest as er
+    from . import exact_settle as st
     from . import exact_sweeps as es
     from . import exact_time_of_impact as et
-    from . import geometry_kernels as gk
     from . import step_kernels as sk
 
 #: The most impacts resolved within one step; past it the step ends without the rest (a guard
 #: against an endless run of impacts; the world warns, ``status[0]`` counts such steps).
 MAX_IMPACTS_PER_STEP = 100_000
-#: The most impulses that settle the contacts one impact touches (a row of k balls needs k).
-RELAX_IMPULSES = 4096
 #: The heap has room for this many entries per candidate pair (and 2 more): twice the most that
 #: can be current (a pair's prediction and its rest's expiry), so a full heap compacts to at most
 #: half (:func:`~collisionlab.engine.event_heap.heap_compact`) and no push inside phase 4 allocates.
@@ -57,35 +53,12 @@ DONE = 0
 RESTART = 1
 ROOM = 2
 
-#: Helpers the compiled form inlines into their callers (:mod:`.compiled`): the small ones, and
-#: those the loop calls for every pair it looks at, which take arrays (a call costs a reference
-#: count taken and given back for each array it passes; inlined into a ``NO_REFCOUNT`` phase,
-#: none at all).
-INLINE = (
-    "_remember",
-    "_recalled",
-)
-
 #: The loop's phases here that allocate nothing, compiled without numba's reference counts
 #: (:mod:`.compiled`).
 NO_REFCOUNT = (
     "_predict_all",
     "_impacts",
 )
-
-
-def _remember(sep_ev: Any, sep_val: Any, c: int, ev: int, sep: Any) -> None:
-    """Keep pair ``c``'s separation ``sep``, measured while event ``ev`` is resolved."""
-    sep_ev[c] = ev
-    for k in range(7):
-        sep_val[c, k] = sep[k]
-
-
-def _recalled(sep_val: Any, c: int) -> Any:
-    """Pair ``c``'s separation kept by :func:`_remember`."""
-    return (
-        sep_val[c, 0], sep_val[c, 1], sep_val[c, 2], sep_val[c, 3], sep_val[c, 4], sep_val[c, 5], sep_val[c, 6]
-    )  # fmt: skip
 
 
 def _predict_all(
@@ -207,7 +180,6 @@ def _impacts(
 
     Compiled without reference counts (``NO_REFCOUNT``): it allocates nothing, the heap has room
     for every push (``event_heap.heap_compact``) and the driver gives the events buffer room first."""
-    n = pos.shape[0]
     restart = False
     while size > 0:
         if record and events.shape[0] - event_count[0] < event_room:
@@ -266,7 +238,7 @@ def _impacts(
                     is_kicked[i] = 1
         else:
             sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
-            _remember(sep_ev, sep_val, c, ev, sep)
+            st._remember(sep_ev, sep_val, c, ev, sep)
             ver[c] += 1
             if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
                 again = et._time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0])
@@ -344,193 +316,20 @@ def _impacts(
             if -vn < rest_speed:
                 ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
             # Settle the contacts this impact touches (sequential impulses, breadth first).
-            n_kicked = 0
-            head = 0
-            tail = 0
-            for r in range(2):
-                i = a if r == 0 else b
-                if i >= 0 and ima[i] > 0.0:
-                    queue[tail % n] = i
-                    tail += 1
-                    queued[i] = 1
-                    kicked[n_kicked] = i
-                    n_kicked += 1
-                    is_kicked[i] = 1
-            settled = 0
-            while head < tail and settled < RELAX_IMPULSES:
-                i = queue[head % n]
-                head += 1
-                queued[i] = 0
-                for u in range(adj_start[i], adj_start[i + 1]):
-                    c2 = adj[u]
-                    a2 = ca[c2]
-                    b2 = cb[c2]
-                    if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
-                        continue  # too far apart when listed to be in contact yet
-                    other = b2 if a2 == i else a2
-                    if sep_ev[c2] == ev:
-                        sep2 = _recalled(sep_val, c2)
-                    else:
-                        if other >= 0:
-                            ef._advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                        _remember(sep_ev, sep_val, c2, ev, sep2)
-                    if sep2[0] > contact_margin:
-                        continue
-                    for k in range(3):
-                        before[k] = vel[a2, k] if a2 >= 0 else 0.0
-                        before[3 + k] = vel[b2, k]
-                    vn2 = (
-                        (before[3] - before[0]) * sep2[1]
-                        + (before[4] - before[1]) * sep2[2]
-                        + (before[5] - before[2]) * sep2[3]
-                    )
-                    still = et._rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5])
-                    if vn2 >= -still:
-                        continue
-                    if sep2[0] > gap:
-                        # An approach too slow to close the gap (to TOI_GAP) before the step
-                        # ends is left alone: it cannot touch in this step (the gap along n
-                        # bounds the distance, as in phase 3), and its pair is predicted
-                        # again with the kicked bodies' pairs.
-                        an = 0.0
-                        for k in range(3):
-                            an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
-                        if gk.first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
-                            continue
-                    e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
-                    e_2 = 0.0 if -vn2 < rest_speed else e2_pair
-                    j2 = ej._kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
-                    if j2 == 0.0:
-                        continue
-                    settled += 1
-                    status[1] += 1
-                    if record and touching[c2] == 0:
-                        sk._put_event(
-                            events,
-                            event_count[0],
-                            sk.EVENT_BELOW_REST if -vn2 < rest_speed else sk.EVENT_IMPACT,
-                            step + 1,
-                            start + when,
-                            ids[a2] if a2 >= 0 else a2,
-                            ids[b2],
-                            sep2,
-                            vn2,
-                            j2,
-                            e_2,
-                            before,
-                            vel,
-                            a2,
-                            b2,
-                        )
-                        event_count[0] += 1
-                    touching[c2] = 1
-                    for r in range(2):
-                        i2 = a2 if r == 0 else b2
-                        if i2 < 0 or ima[i2] == 0.0:
-                            continue
-                        if is_kicked[i2] == 0:
-                            is_kicked[i2] = 1
-                            kicked[n_kicked] = i2
-                            n_kicked += 1
-                        if queued[i2] == 0 and tail - head < n:
-                            queue[tail % n] = i2
-                            tail += 1
-                            queued[i2] = 1
-            for q in range(head, tail):
-                queued[queue[q % n]] = 0
+            n_kicked = st._settle(
+                a, b, kind, pos, vel, acc, tau, ext, ima, eb, ids, s_kind, s_a, s_b, s_e, gravity, ca, cb, cd,
+                adj_start, adj, touching, sup, nsup, sep_ev, sep_val, kicked, is_kicked, queue, queued, before,
+                events, event_count, ledger, status, record, step, start, when, dt, gap, e_default, contact_margin,
+                rest_speed, reach_body, reach_static, ev,
+            )  # fmt: skip
         # A kicked body that rested may lift off, and what rested on it with it: look at
         # them again (their resting pairs are dropped, then found again on what holds).
-        n_look = n_kicked
-        for q in range(n_kicked):
-            i = kicked[q]
-            for u in range(adj_start[i], adj_start[i + 1]):
-                c2 = adj[u]
-                if rest[c2] == 0:
-                    continue
-                rest[c2] = 0
-                ver[count + c2] += 1  # its expiry, if any, with it
-                other = cb[c2] if ca[c2] == i else ca[c2]
-                if other >= 0 and ima[other] > 0.0 and is_kicked[other] == 0:
-                    ef._advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                    is_kicked[other] = 1
-                    kicked[n_look] = other
-                    n_look += 1
-        for q in range(n_look):
-            i = kicked[q]
-            ef._advance(i, when, pos, vel, acc, tau, ima, gravity, ledger)
-            er._base_acceleration(i, acc, ima, gravity, nsup)
-        if resting_on:  # on what holds: a static, a kinematic body, a supported body
-            look_start = look_clock + 1
-            for _pass in range(er.MAX_SUPPORTS):
-                changed = False
-                for q in range(n_look):
-                    i = kicked[q]
-                    for u in range(adj_start[i], adj_start[i + 1]):
-                        c2 = adj[u]
-                        a2 = ca[c2]
-                        b2 = cb[c2]
-                        other = b2 if a2 == i else a2
-                        if rest[c2] == 1 or (other >= 0 and ima[other] > 0.0 and nsup[other] == 0):
-                            continue
-                        if -cd[c2] > (reach_body if a2 >= 0 else reach_static):
-                            continue
-                        if er._unchanged_since(look_seen, look_changed, c2, a2, b2, look_start):
-                            continue  # looked at in this look already, its bodies unchanged: 0 again
-                        look_clock += 1
-                        look_seen[c2] = look_clock
-                        if sep_ev[c2] == ev:
-                            sep2 = _recalled(sep_val, c2)
-                        else:
-                            if other >= 0:
-                                ef._advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                            sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
-                            _remember(sep_ev, sep_val, c2, ev, sep2)
-                        if sep2[0] > contact_margin:
-                            continue
-                        done = er._rest(
-                            c2,
-                            a2,
-                            b2,
-                            sep2[1],
-                            sep2[2],
-                            sep2[3],
-                            kind,
-                            vel,
-                            ext,
-                            ima,
-                            acc,
-                            sup,
-                            nsup,
-                            s_kind,
-                            rest,
-                            touching,
-                            rest_speed,
-                            ledger,
-                        )
-                        if done != 0:
-                            look_changed[b2] = look_clock
-                            if a2 >= 0:
-                                look_changed[a2] = look_clock
-                        if done == 1:
-                            changed = True
-                            for k in range(3):
-                                normals[c2, k] = sep2[1 + k]
-                if not changed:
-                    break
-            for q in range(n_look):  # the new rests' expiries
-                i = kicked[q]
-                for u in range(adj_start[i], adj_start[i + 1]):
-                    c2 = adj[u]
-                    if rest[c2] == 0:
-                        continue
-                    ver[count + c2] += 1
-                    later = when + er._support_expiry(
-                        ca[c2], cb[c2], kind, vel, acc, ext, s_kind, normals, c2, contact_margin
-                    )
-                    if later < dt:
-                        size = eh.heap_compact(ht, hk, hv, size, ver)
-                        size = eh.heap_push(ht, hk, hv, size, later, count + c2, ver[count + c2])
+        n_look, look_clock, size = st._rest_again(
+            n_kicked, kind, pos, vel, acc, tau, ext, ima, s_kind, s_a, s_b, gravity, ca, cb, cd, count, adj_start,
+            adj, rest, touching, normals, sup, nsup, ver, ht, hk, hv, size, sep_ev, sep_val, look_seen,
+            look_changed, look_clock, kicked, is_kicked, ledger, when, dt, contact_margin, rest_speed, resting_on,
+            reach_body, reach_static, ev,
+        )  # fmt: skip
         for q in range(n_look):
             grown_by = a_bound * (when - t)
             if es._speed_beyond(vel, kicked[q], v_ref, v_bound + grown_by, bound[kicked[q]] + grown_by):

@@ -56,6 +56,7 @@ The phases live in files of their own, each owning one concept (this file is the
 * :mod:`.exact_rest` - phase 2, resting contacts and the accelerations they leave;
 * :mod:`.exact_time_of_impact` - phase 3's query, a pair's first time of impact;
 * :mod:`.exact_impacts` - phases 3 and 4, the predictions and the impacts in time order;
+* :mod:`.exact_settle` - what an impact touches, settled at its time: contacts, rests;
 * :mod:`.exact_impulses` - the impulse of an impact, or of a rest's stop;
 * :mod:`.exact_flight` - a body's exact flight between impacts;
 * this file - the loop (:func:`run_exact_steps`) and phase 5, the end of the step.
@@ -76,19 +77,22 @@ if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled
     ef: Any = globals()["_EXACT_FLIGHT"]
     er: Any = globals()["_EXACT_REST"]
     es: Any = globals()["_EXACT_SWEEPS"]
+    st: Any = globals()["_EXACT_SETTLE"]
     ei: Any = globals()["_EXACT_IMPACTS"]
 else:
     from . import exact_flight as ef
     from . import exact_impacts as ei
     from . import exact_rest as er
+    from . import exact_settle as st
     from . import exact_sweeps as es
     from . import step_kernels as sk
 
 __all__ = ["MAX_IMPACTS_PER_STEP", "RELAX_IMPULSES", "STATUS_SIZE", "run_exact_steps"]
 
-#: The stepper's limits, as a world reads them from its kernels (:mod:`.exact_impacts` owns them).
+#: The stepper's limits, as a world reads them from its kernels (:mod:`.exact_impacts` and
+#: :mod:`.exact_settle` own them).
 MAX_IMPACTS_PER_STEP = ei.MAX_IMPACTS_PER_STEP
-RELAX_IMPULSES = ei.RELAX_IMPULSES
+RELAX_IMPULSES = st.RELAX_IMPULSES
 #: Counters returned to the world: steps that hit MAX_IMPACTS_PER_STEP, impacts resolved, times
 #: the candidates had to be listed again within a step; then the step from which each body is
 #: listed for its own bound again (``SWEEP_PAUSE``; kept here so that a run does not depend on
@@ -364,7 +368,7 @@ def run_exact_steps(
                 t, dt, gap, contact_margin,
             )  # fmt: skip
             # Phase 4: impacts in time order.
-            event_room = 1 + min(count, ei.RELAX_IMPULSES + max_degree)  # the most rows one impact writes
+            event_room = 1 + min(count, st.RELAX_IMPULSES + max_degree)  # the most rows one impact writes
             while True:
                 if record:
                     events = sk._events_with_room(events, event_count[0], event_room)
