@@ -56,6 +56,7 @@ COLLISION_LAYER = (
     "collisionlab.engine.exact_sweeps",
     "collisionlab.engine.exact_settle",
     "collisionlab.engine.exact_impacts",
+    "collisionlab.engine.exact_step_end",
     "collisionlab.engine.step_kernels",
     "collisionlab.engine.event_heap",
 )

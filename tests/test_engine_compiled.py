@@ -30,6 +30,7 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
         "exact_sweeps",
         "exact_settle",
         "exact_impacts",
+        "exact_step_end",
     ]
     assert set(dropped) == {
         "geometry_kernels",

@@ -95,7 +95,16 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
         "exact_sweeps",
         "exact_settle",
     ),
-    "exact_kernels": ("step_kernels", "exact_flight", "exact_rest", "exact_sweeps", "exact_settle", "exact_impacts"),
+    "exact_step_end": ("step_kernels", "exact_sweeps"),
+    "exact_kernels": (
+        "step_kernels",
+        "exact_flight",
+        "exact_rest",
+        "exact_sweeps",
+        "exact_settle",
+        "exact_impacts",
+        "exact_step_end",
+    ),
     "contact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
 }
 
@@ -110,6 +119,7 @@ _GLOBAL_NAMES = {
     "exact_time_of_impact": "_EXACT_TIME_OF_IMPACT",
     "exact_rest": "_EXACT_REST",
     "exact_settle": "_EXACT_SETTLE",
+    "exact_step_end": "_EXACT_STEP_END",
     "exact_impacts": "_EXACT_IMPACTS",
 }
 

@@ -59,7 +59,9 @@ The phases live in files of their own, each owning one concept (this file is the
 * :mod:`.exact_settle` - what an impact touches, settled at its time: contacts, rests;
 * :mod:`.exact_impulses` - the impulse of an impact, or of a rest's stop;
 * :mod:`.exact_flight` - a body's exact flight between impacts;
-* this file - the loop (:func:`run_exact_steps`) and phase 5, the end of the step.
+* :mod:`.exact_step_end` - phase 5, the end of the step: depths for push-apart, the pairs in
+  contact remembered;
+* this file - the loop (:func:`run_exact_steps`), the phases in order.
 
 This file imports those (and :mod:`.step_kernels`' broad phase, push-apart and events); none of
 them imports it.
@@ -79,11 +81,13 @@ if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled
     es: Any = globals()["_EXACT_SWEEPS"]
     st: Any = globals()["_EXACT_SETTLE"]
     ei: Any = globals()["_EXACT_IMPACTS"]
+    se: Any = globals()["_EXACT_STEP_END"]
 else:
     from . import exact_flight as ef
     from . import exact_impacts as ei
     from . import exact_rest as er
     from . import exact_settle as st
+    from . import exact_step_end as se
     from . import exact_sweeps as es
     from . import step_kernels as sk
 
@@ -98,72 +102,6 @@ RELAX_IMPULSES = st.RELAX_IMPULSES
 #: listed for its own bound again (``SWEEP_PAUSE``; kept here so that a run does not depend on
 #: how its steps are split into calls).
 STATUS_SIZE = 4
-
-#: The loop's phases here that allocate nothing, compiled without numba's reference counts: an
-#: inlined helper's array arguments each cost a count taken and given back per call, which
-#: numba's pruning leaves in loops (measured: a fifth of the kernel's time; bench/README). Each
-#: phase's file names its own.
-NO_REFCOUNT = ("_end_separations",)
-
-
-def _save_touching(
-    ca: Any, cb: Any, ids: Any, n: int, count: int, touching: Any, near: Any, touch_keys: Any, touch_count: Any
-) -> Any:
-    """Remember the pairs in contact (touching and within the contact margin) across re-sorts, in
-    no order (as :func:`~collisionlab.engine.step_kernels.run_steps`; looked up through a hash
-    table, :func:`~collisionlab.engine.step_kernels._mark_touching`)."""
-    if count > touch_keys.shape[0]:
-        touch_keys = np.zeros(2 * count, np.int64)
-    kept = 0
-    for c in range(count):
-        if touching[c] == 1 and near[c] == 1:
-            touch_keys[kept] = sk._pair_key(ca, cb, ids, n, c)
-            kept += 1
-    touch_count[0] = kept
-    return touch_keys
-
-
-def _end_separations(
-    kind: Any,
-    pos: Any,
-    ext: Any,
-    s_kind: Any,
-    s_a: Any,
-    s_b: Any,
-    ca: Any,
-    cb: Any,
-    cd: Any,
-    cn: Any,
-    count: int,
-    near_idx: Any,
-    elapsed: float,
-    u_bound: float,
-    v_bound: float,
-    a_bound: float,
-    contact_margin: float,
-    gap: float,
-    solver_margin: float,
-) -> Any:
-    """Phase 5's look at every candidate, its bodies at the step's end (``elapsed`` after the
-    listing): ``cd`` gets its depth (or a bound on it, enough for a pair neither pushed apart nor
-    in contact) and ``cn`` its normal; ``near_idx`` gets the pairs push-apart looks at, in their
-    order. Returns how many, and whether any overlaps."""
-    n_push = 0
-    overlap = False
-    for c in range(count):
-        closing = es._closing(ca[c], elapsed, u_bound, v_bound, a_bound)
-        if -cd[c] - closing > contact_margin + gap:
-            cd[c] -= closing  # a bound is enough: neither pushed apart nor in contact
-            continue
-        sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
-        cd[c] = -sep[0]
-        for k in range(3):  # push-apart's first look at the pair, until a body moves
-            cn[c, k] = sep[1 + k]
-        if cd[c] >= -solver_margin:  # the pairs push-apart looks at, in its order
-            near_idx[n_push] = c
-            n_push += 1
-            overlap = overlap or cd[c] > 0.0
-    return n_push, overlap
 
 
 def run_exact_steps(
@@ -388,7 +326,7 @@ def run_exact_steps(
                 for c2 in range(count):
                     sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
                     near[c2] = 1 if sep2[0] <= contact_margin else 0
-                touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
+                touch_keys = se._save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
                 t = when
                 status[2] += 1
                 if floor < 1.0:  # the fastest's sweep for the rest of this step and SWEEP_PAUSE more
@@ -403,7 +341,7 @@ def run_exact_steps(
             seen = np.zeros(2 * count, np.int64)
         if looked.shape[0] < count:
             looked = np.zeros(2 * count, np.int64)
-        n_push, overlap = _end_separations(
+        n_push, overlap = se._end_separations(
             kind, pos, ext, s_kind, s_a, s_b, ca, cb, cd, cn, count, near_idx, dt - t, u_bound, v_bound, a_bound,
             contact_margin, gap, solver_margin,
         )  # fmt: skip
@@ -427,5 +365,5 @@ def run_exact_steps(
             # a resting pair is in contact even where its flight past a curved support opened
             # its gap a little beyond the margin (er._support_expiry)
             near[c] = 1 if -cd[c] <= contact_margin or (c < rest.shape[0] and rest[c] == 1) else 0
-        touch_keys = _save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
+        touch_keys = se._save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
     return touch_keys, ca, cb, cd, events
