@@ -48,7 +48,15 @@ COLLISION_LAYER = (
     "collisionlab.engine.geometry_kernels",  # the narrow phase and contact law as scalar kernels
     "collisionlab.toi",  # times of impact, through the exact stepper's kernels
     "collisionlab.engine.shape_rows",  # a shape as a row of the kernels' arrays
-    "collisionlab.engine.exact_kernels",
+    "collisionlab.engine.exact_kernels",  # the exact stepper's loop, and the files of its phases:
+    "collisionlab.engine.exact_flight",
+    "collisionlab.engine.exact_time_of_impact",
+    "collisionlab.engine.exact_impulses",
+    "collisionlab.engine.exact_rest",
+    "collisionlab.engine.exact_sweeps",
+    "collisionlab.engine.exact_settle",
+    "collisionlab.engine.exact_impacts",
+    "collisionlab.engine.exact_step_end",
     "collisionlab.engine.step_kernels",
     "collisionlab.engine.event_heap",
 )

@@ -3,6 +3,7 @@ after an edit, and what the world is told is cached. numba itself is not run her
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pytest
@@ -21,11 +22,33 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
 
     monkeypatch.setattr(compiled, "forget_stale", spy)
     compiled._forget_stale()
-    assert set(dropped) == {"geometry_kernels", "event_heap", "step_kernels", "exact_kernels", "contact_kernels"}
+    exact = [
+        "exact_flight",
+        "exact_time_of_impact",
+        "exact_impulses",
+        "exact_rest",
+        "exact_sweeps",
+        "exact_settle",
+        "exact_impacts",
+        "exact_step_end",
+    ]
+    assert set(dropped) == {
+        "geometry_kernels",
+        "event_heap",
+        "step_kernels",
+        "exact_kernels",
+        "contact_kernels",
+        *exact,
+    }
     assert "geometry_kernels.py" in dropped["geometry_kernels"]
     assert {"step_kernels.py", "geometry_kernels.py"} <= set(dropped["step_kernels"])
     for stepper in ("exact_kernels", "contact_kernels"):
         assert {f"{stepper}.py", "step_kernels.py", "geometry_kernels.py", "event_heap.py"} <= set(dropped[stepper])
+    # The loop's machine code holds its phases' files, and the files they call (the impacts
+    # call the geometry kernels and the event heap; the loop itself imports neither).
+    assert {f"{stem}.py" for stem in exact} <= set(dropped["exact_kernels"])
+    assert {"exact_impulses.py", "geometry_kernels.py"} <= set(dropped["exact_rest"])
+    assert "exact_impacts.py" not in dropped["exact_rest"]  # a file is not dropped for its callers' edits
     assert all({"compiled.py", "tolerances.py"} <= set(names) for names in dropped.values())
     # The kernels read no policy file: an edit of limits.py never recompiles them.
     assert not any("limits.py" in names for names in dropped.values())
@@ -42,3 +65,18 @@ def test_is_cached_asks_about_the_kernel_to_be_called(tmp_path: Path, monkeypatc
     assert not compiled.is_cached("step_kernels", "run_steps")
     assert not compiled.is_cached("exact_kernels", "run_exact_steps")
     assert not compiled.is_cached("exact_kernels", "find_near")  # another file's function
+
+
+def test_each_kernel_file_is_handed_the_compiled_files_it_imports() -> None:
+    """compiled.py's import graph, kept by hand, is the files' own: the block at the top of a
+    kernel file reads, in its compiled copy, the globals it is handed, and imports the same
+    files as Python (a file left out would fail to compile, or drop a stale cache too seldom)."""
+    folder = Path(compiled.__file__).resolve().parent
+    for stem, imported in compiled._IMPORTS.items():
+        text = (folder / f"{stem}.py").read_text(encoding="utf-8")
+        handed = set(re.findall(r'globals\(\)\["(_[A-Z_]+)"\]', text))
+        assert handed == {compiled._GLOBAL_NAMES[name] for name in imported}, stem
+        python = set(re.findall(r"^    from \. import (\w+) as \w+$", text, re.MULTILINE))
+        assert python == set(imported), stem
+    kernel_files = {p.stem for p in folder.glob("*.py") if 'globals()["_' in p.read_text(encoding="utf-8")}
+    assert kernel_files <= set(compiled._IMPORTS)  # every file with such a block is loaded by compiled.py

@@ -1,6 +1,7 @@
-"""The exact stepper's phases as its compiled form runs them (exact_kernels, compiled.py): compiled
-without reference counts (NO_REFCOUNT), so they allocate nothing. The heap compacts in place; the
-driver gives the events buffer room before each call (ROOM): a run is the same however tight."""
+"""The exact stepper's phases as its compiled form runs them (exact_kernels.py and the files of its
+phases, compiled.py): compiled without reference counts (NO_REFCOUNT), so they allocate nothing.
+The heap compacts in place; the driver gives the events buffer room before each call (ROOM): a run
+is the same however tight."""
 
 from __future__ import annotations
 
@@ -11,7 +12,21 @@ from typing import Any
 import numpy as np
 import pytest
 
-from collisionlab.engine import compiled, event_heap, exact_kernels, geometry_kernels, step_kernels
+from collisionlab.engine import (
+    compiled,
+    event_heap,
+    exact_flight,
+    exact_impacts,
+    exact_impulses,
+    exact_kernels,
+    exact_rest,
+    exact_settle,
+    exact_step_end,
+    exact_sweeps,
+    exact_time_of_impact,
+    geometry_kernels,
+    step_kernels,
+)
 from collisionlab.engine.params import WorldParams
 from collisionlab.engine.world import World
 from collisionlab.scenario_file import parse_scenario
@@ -66,7 +81,21 @@ normal = [0, 0, -1]
 """
 
 
-@pytest.mark.parametrize("module", [geometry_kernels, step_kernels, exact_kernels])
+#: The exact stepper's files: the loop and one file per concept it calls.
+EXACT_FILES = (
+    exact_flight,
+    exact_time_of_impact,
+    exact_impulses,
+    exact_rest,
+    exact_settle,
+    exact_step_end,
+    exact_sweeps,
+    exact_impacts,
+    exact_kernels,
+)
+
+
+@pytest.mark.parametrize("module", [geometry_kernels, step_kernels, *EXACT_FILES])
 def test_every_helper_named_for_the_compiler_is_a_function_of_its_module(module: types.ModuleType) -> None:
     inline = set(getattr(module, "INLINE", ()))
     no_refcount = set(getattr(module, "NO_REFCOUNT", ()))
@@ -75,11 +104,23 @@ def test_every_helper_named_for_the_compiler_is_a_function_of_its_module(module:
         assert isinstance(getattr(module, name, None), types.FunctionType), name
 
 
+def test_the_loop_file_gives_the_world_the_numbers_it_reads() -> None:
+    """A world reads the cap of impacts per step (its warning) and the counters from the stepper's
+    entry, exact_kernels, as from the contact stepper's, in both forms; the phases' files own them."""
+    for kernels in (exact_kernels, compiled.exact_kernels()):
+        assert kernels.MAX_IMPACTS_PER_STEP == exact_impacts.MAX_IMPACTS_PER_STEP
+        assert kernels.RELAX_IMPULSES > 0 and kernels.STATUS_SIZE == 4
+
+
 def test_the_compiled_phases_take_no_reference_counts_and_the_driver_does() -> None:
     kernels = compiled.exact_kernels()
-    assert exact_kernels.NO_REFCOUNT  # the phases are named
-    for name in exact_kernels.NO_REFCOUNT:
-        assert getattr(kernels, name).targetoptions.get("_nrt") is False, name
+    phases = []
+    for module in EXACT_FILES:
+        compiled_file = compiled._module(module.__name__.rpartition(".")[2])
+        for name in getattr(module, "NO_REFCOUNT", ()):
+            assert getattr(compiled_file, name).targetoptions.get("_nrt") is False, name
+            phases.append(name)
+    assert {"_rest_passes", "_predict_all", "_impacts", "_end_separations"} <= set(phases)  # the phases are named
     assert kernels.run_exact_steps.targetoptions.get("_nrt", True) is True  # it allocates
 
 
@@ -87,7 +128,7 @@ def _filled_heap(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, int, np
     """A full heap of entries for 2 * 30 keys, several versions per key (the highest current)."""
     rng = np.random.default_rng(seed)
     count = 30
-    capacity = exact_kernels.HEAP_ROOM * count + 2
+    capacity = exact_impacts.HEAP_ROOM * count + 2
     ht, hk, hv = np.zeros(capacity), np.zeros(capacity, np.int64), np.zeros(capacity, np.int64)
     ver = np.zeros(2 * count, np.int64)
     size = 0
@@ -142,7 +183,7 @@ def _run(text: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
 def test_a_run_is_the_same_when_the_events_buffer_has_only_just_room(monkeypatch: pytest.MonkeyPatch) -> None:
     roomy = _run(HEAP_OF_BALLS)
     returns: list[int] = []
-    impacts = exact_kernels._impacts
+    impacts = exact_impacts._impacts
 
     def counted(*args: Any) -> tuple[int, ...]:
         result: tuple[int, ...] = impacts(*args)
@@ -156,10 +197,10 @@ def test_a_run_is_the_same_when_the_events_buffer_has_only_just_room(monkeypatch
         grown[: min(used, events.shape[0])] = events[:used]
         return grown
 
-    monkeypatch.setattr(exact_kernels, "_impacts", counted)
+    monkeypatch.setattr(exact_impacts, "_impacts", counted)
     monkeypatch.setattr(step_kernels, "_events_with_room", just_room)
     tight = _run(HEAP_OF_BALLS)
-    assert returns.count(exact_kernels.ROOM) > 10  # the impacts stopped for room, and went on
+    assert returns.count(exact_impacts.ROOM) > 10  # the impacts stopped for room, and went on
     assert roomy[2].shape[0] > 100  # events enough to matter
     for a, b in zip(roomy, tight, strict=True):
         assert np.array_equal(a, b)
@@ -195,4 +236,4 @@ def test_a_body_kicked_past_its_own_sweep_has_the_candidates_listed_again(compil
     assert hits[("C", "D")] == pytest.approx(t1 + (0.11 - 2.0 * t1) / 12.0, abs=1e-9)
     status = world._stepper.status  # type: ignore[union-attr]
     assert status[2] >= 1  # the step was cut and the candidates listed again
-    assert status[3] == 1 + exact_kernels.SWEEP_PAUSE  # and every body has the widest sweep for a while
+    assert status[3] == 1 + exact_sweeps.SWEEP_PAUSE  # and every body has the widest sweep for a while

@@ -10,8 +10,8 @@ mirrored order is derived with :meth:`Impact.flipped` (the relative motion negat
 negated). :func:`time_of_impact` dispatches on the shapes' types, in either order.
 
 Written once: the search is the exact stepper's own time of impact
-(:func:`collisionlab.engine.exact_kernels._time_of_impact`, conservative advancement along the
-separating normal, with the closed form for two balls in straight flight), run on a two-body
+(:func:`collisionlab.engine.exact_time_of_impact._time_of_impact`, conservative advancement along
+the separating normal, with the closed form for two balls in straight flight), run on a two-body
 state: A at rest at the origin (a line or plane as a static obstacle), B moving with the
 relative motion. What ``collisionlab run --mode exact`` computes for a pair is what this returns.
 
@@ -60,7 +60,7 @@ from typing import Any
 import numpy as np
 
 from .contact import Separation
-from .engine import exact_kernels as ek
+from .engine import exact_time_of_impact as et
 from .engine.shape_rows import body_row, static_row
 from .errors import InvalidInputError, OutOfRangeError, UnsupportedPairError
 from .narrowphase import (
@@ -100,9 +100,9 @@ __all__ = [
 _LARGEST_SCALED = 2.0**500
 _LARGEST_SCALED_ACCELERATION = 2.0**1000
 _SMALLEST_SCALED = 2.0**-250
-#: Rounds of the kernel's iteration (each at most ``exact_kernels.TOI_ITERATIONS`` steps) before a
-#: touch not yet within ``TOI_TOUCH`` is taken as reached: conservative advancement never passes
-#: the touch, so the time then is at most rounding early.
+#: Rounds of the kernel's iteration (each at most ``exact_time_of_impact.TOI_ITERATIONS`` steps)
+#: before a touch not yet within ``TOI_TOUCH`` is taken as reached: conservative advancement never
+#: passes the touch, so the time then is at most rounding early.
 _ROUNDS = 16
 
 
@@ -216,10 +216,10 @@ def _search(a: Shape, b: Shape, velocity: Vector3D, acceleration: Vector3D, max_
     t = 0.0
     for _ in range(_ROUNDS):
         with np.errstate(all="ignore"):  # a root beyond the range is inf (no touch), as compiled
-            reached = ek._time_of_impact(*state, t, end, 0.0, -math.inf)
+            reached = et._time_of_impact(*state, t, end, 0.0, -math.inf)
             if reached == math.inf:
                 return None
-            sep = ek._separation_at(*state, reached, k2, p2, v2, e2)
+            sep = et._separation_at(*state, reached, k2, p2, v2, e2)
         if not all(math.isfinite(x) for x in sep[:4]):
             raise _too_large()
         if sep[0] <= TOI_TOUCH or reached <= t:

@@ -13,7 +13,12 @@ Euler) or exactly.
 * :mod:`.stepper` - :class:`~.stepper.EulerStepper`: what a Forward Euler run keeps between
   calls (scratch, the pairs in contact, buffers) and the one call that advances it.
 * :mod:`.exact_kernels` - the exact stepper over the same arrays (times of impact within each
-  step, earliest first from an event calendar); :mod:`.exact_stepper` keeps its state between calls.
+  step, earliest first from an event calendar): its loop; one file per phase it calls,
+  :mod:`.exact_sweeps` (the candidates' bounds), :mod:`.exact_rest` (resting contacts),
+  :mod:`.exact_time_of_impact`, :mod:`.exact_impacts` (impacts in time order),
+  :mod:`.exact_settle` (what an impact touches, settled), :mod:`.exact_step_end`,
+  :mod:`.exact_impulses` and :mod:`.exact_flight`; :mod:`.exact_stepper` keeps its state
+  between calls.
 * :mod:`.contact_kernels` - exact mode with ``contacts = "solve"``: impacts at their time of
   impact, slow and resting contacts solved together at mid-step (warm-started projected
   Gauss-Seidel), bodies at rest asleep; :mod:`.contact_stepper` keeps its state between calls.

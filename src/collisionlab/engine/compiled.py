@@ -34,6 +34,7 @@ __all__ = ["contact_kernels", "exact_kernels", "is_cached", "kernels"]
 
 _HERE = Path(__file__).resolve().parent
 _loaded: dict[str, types.ModuleType] = {}
+_started: list[bool] = []  # whether _start has run in this process
 
 
 def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
@@ -63,60 +64,126 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     return module
 
 
-#: Each kernel file and the files whose code its machine code contains.
-_CALLS = {
+#: Each kernel file and the kernel files it imports: its compiled copy is handed theirs as the
+#: globals of :data:`_GLOBAL_NAMES` (the block at the top of each file that reads them).
+_IMPORTS: dict[str, tuple[str, ...]] = {
     "geometry_kernels": (),
     "event_heap": (),
     "step_kernels": ("geometry_kernels",),
-    "exact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
+    # The exact stepper, one concept per file (exact_kernels.py, the loop, lists them).
+    "exact_flight": (),
+    "exact_sweeps": (),
+    "exact_impulses": ("geometry_kernels",),
+    "exact_time_of_impact": ("geometry_kernels", "step_kernels", "exact_flight"),
+    "exact_rest": ("geometry_kernels", "step_kernels", "exact_impulses"),
+    "exact_settle": (
+        "geometry_kernels",
+        "step_kernels",
+        "event_heap",
+        "exact_flight",
+        "exact_time_of_impact",
+        "exact_impulses",
+        "exact_rest",
+    ),
+    "exact_impacts": (
+        "step_kernels",
+        "event_heap",
+        "exact_flight",
+        "exact_time_of_impact",
+        "exact_impulses",
+        "exact_rest",
+        "exact_sweeps",
+        "exact_settle",
+    ),
+    "exact_step_end": ("step_kernels", "exact_sweeps"),
+    "exact_kernels": (
+        "step_kernels",
+        "exact_flight",
+        "exact_rest",
+        "exact_sweeps",
+        "exact_settle",
+        "exact_impacts",
+        "exact_step_end",
+    ),
     "contact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
 }
 
+#: The global a compiled copy finds an imported kernel file's compiled copy under.
+_GLOBAL_NAMES = {
+    "geometry_kernels": "_GEOMETRY",
+    "step_kernels": "_STEP",
+    "event_heap": "_HEAP",
+    "exact_flight": "_EXACT_FLIGHT",
+    "exact_sweeps": "_EXACT_SWEEPS",
+    "exact_impulses": "_EXACT_IMPULSES",
+    "exact_time_of_impact": "_EXACT_TIME_OF_IMPACT",
+    "exact_rest": "_EXACT_REST",
+    "exact_settle": "_EXACT_SETTLE",
+    "exact_step_end": "_EXACT_STEP_END",
+    "exact_impacts": "_EXACT_IMPACTS",
+}
+
+
+def _calls(stem: str) -> list[str]:
+    """The kernel files whose code the machine code of ``stem``'s kernels contains: those it
+    imports, and theirs, in the order first met.
+
+    >>> _calls("exact_rest")
+    ['geometry_kernels', 'step_kernels', 'exact_impulses']
+    """
+    found: list[str] = []
+    for callee in _IMPORTS[stem]:
+        for name in (*_calls(callee), callee):
+            if name not in found:
+                found.append(name)
+    return found
+
 
 def _forget_stale() -> None:
-    """Remove a kernel file's cached code if the file, a file it calls, or this one (the options
-    it is compiled with), is newer than it. (numba would compile a changed file's kernels again
-    anyway; removing its files first keeps :func:`is_cached` true to what a call will do.)"""
-    for stem, callees in _CALLS.items():
-        sources = [_HERE / f"{name}.py" for name in (stem, *callees)]
+    """Remove a kernel file's cached code if the file, a file it calls (directly or through
+    another), or this one (the options it is compiled with), is newer than it. (numba would
+    compile a changed file's kernels again anyway; removing its files first keeps
+    :func:`is_cached` true to what a call will do.)"""
+    for stem in _IMPORTS:
+        sources = [_HERE / f"{name}.py" for name in (stem, *_calls(stem))]
         sources += [_HERE.parent / "tolerances.py", Path(__file__)]
         forget_stale(_HERE, [stem], sources)
 
 
-def _load() -> None:
-    if "step" not in _loaded:
+def _start() -> None:
+    """Once per process, before any kernel file is loaded: numba's cache folder, and the stale
+    cached code dropped."""
+    if not _started:
         use_user_cache()
         _forget_stale()
-        geometry = _compile_module("geometry_kernels", {})
-        _loaded["step"] = _compile_module("step_kernels", {"_GEOMETRY": geometry})
-        _loaded["geometry"] = geometry
-        _loaded["heap"] = _compile_module("event_heap", {})
+        _started.append(True)
+
+
+def _module(stem: str) -> types.ModuleType:
+    """The compiled copy of the kernel file ``stem``, loaded with the compiled copies of the
+    files it imports at its first call (loading compiles nothing: numba compiles a kernel, or
+    loads it from its cache, at the kernel's first call)."""
+    _start()
+    if stem not in _loaded:
+        inject = {_GLOBAL_NAMES[callee]: _module(callee) for callee in _IMPORTS[stem]}
+        _loaded[stem] = _compile_module(stem, inject)
+    return _loaded[stem]
 
 
 def kernels() -> types.ModuleType:
     """The compiled :mod:`~collisionlab.engine.step_kernels` (and, inside it, geometry kernels)."""
-    _load()
-    return _loaded["step"]
+    return _module("step_kernels")
 
 
 def exact_kernels() -> types.ModuleType:
-    """The compiled :mod:`~collisionlab.engine.exact_kernels` (calling the compiled step kernels)."""
-    _load()
-    if "exact" not in _loaded:
-        _loaded["exact"] = _compile_module(
-            "exact_kernels", {"_GEOMETRY": _loaded["geometry"], "_STEP": _loaded["step"], "_HEAP": _loaded["heap"]}
-        )
-    return _loaded["exact"]
+    """The compiled :mod:`~collisionlab.engine.exact_kernels` (calling the compiled step kernels
+    and the compiled files of its phases)."""
+    return _module("exact_kernels")
 
 
 def contact_kernels() -> types.ModuleType:
     """The compiled :mod:`~collisionlab.engine.contact_kernels` (calling the compiled step kernels)."""
-    _load()
-    if "contact" not in _loaded:
-        _loaded["contact"] = _compile_module(
-            "contact_kernels", {"_GEOMETRY": _loaded["geometry"], "_STEP": _loaded["step"], "_HEAP": _loaded["heap"]}
-        )
-    return _loaded["contact"]
+    return _module("contact_kernels")
 
 
 def is_cached(stem: str, entry: str) -> bool:
