@@ -36,7 +36,7 @@ __all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_call", 
 
 #: What the first compile of these kernels takes on a 2-core machine, for the notice a run or
 #: ``collisionlab compile`` gives (bench/LOG.md, "Compiling the event-driven kernels").
-COMPILE_TAKES = "under a minute"
+COMPILE_TAKES = "about a minute"
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _A = TypeVar("_A")

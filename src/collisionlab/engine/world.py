@@ -407,7 +407,7 @@ class World:
             # will wait (on 2 cores, bench/README.md).
             exact = self._exact and not self.scenario.event_driven and not self._solving
             exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
-            took = "about three minutes" if exact else "about a minute"
+            took = "about two minutes" if exact else "about a minute"
             self._notify(f"compiling the engine's kernels (once per machine; {took})...")
         return compile_lock(Path(kernels.__file__ or ".").parent, stem)
 
