@@ -11,6 +11,7 @@ one line and exit 65.
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import signal
@@ -26,6 +27,7 @@ import pytest
 
 from collisionlab.edmd import layout as L
 from collisionlab.edmd.checkpoint import FORMAT, VERSION, CheckpointError, read_checkpoint, write_checkpoint
+from collisionlab.edmd.observables import run_end
 from collisionlab.edmd.world import STATE_ARRAYS
 from tests.cli_helpers import finish, run_cli
 
@@ -337,3 +339,168 @@ def test_checkpoint_options_are_checked(tmp_path: Path) -> None:
     missing = run_cli(["gas", "--resume", str(tmp_path / "missing.npz")])
     assert missing.status == 1 and missing.err.count("\n") == 1 and "cannot read" in missing.err
     assert not os.listdir(tmp_path)
+
+
+# Observed runs (--observe): the observer is saved with the world, and a resumed run goes on
+# observing; its report is the observed run's done in one go, every field of it.
+
+#: The report's fields that are wall-clock times or name the checkpoint (the rest must agree).
+NOT_THE_RUN = ("seconds", "collisions_per_s", "compile_seconds", "checkpoint", "checkpoints_written",
+               "resumed_from", "resumed_at")  # fmt: skip
+OBSERVED = ["--n", "300", "--dim", "3", "--boundary", "periodic", "--fraction", "0.3", "--time", "3"]
+#: A mixture's observed run, for the species' pair counts.
+OBSERVED_MIXTURE = ["--n", "300", "--dim", "3", "--boundary", "periodic", "--fraction", "0.2", "--time", "2",
+                    "--species", "big:0.5:1", "--species", "small:0.5:0.6"]  # fmt: skip
+
+
+def assert_same_report(first: dict[str, Any], second: dict[str, Any]) -> None:
+    """Every field but the wall-clock ones and the checkpoint's own: the same (floats: the same bits)."""
+    names = (set(first) | set(second)) - set(NOT_THE_RUN)
+    for name in sorted(names):
+        assert first.get(name) == second.get(name), name
+
+
+def _saved_along(
+    tmp_path: Path, options: list[str], observe: tuple[str, ...], samples: int, every: float
+) -> list[Path]:
+    """The observed run of ``options`` (as the command makes it) done in one go, a checkpoint
+    of it kept at every multiple of ``every`` (the command keeps the last only)."""
+    from collisionlab.cli.gas_command import _exact_gas, add_parser
+    from collisionlab.edmd.observables import ExactGas, observer_for, parse_species, run_on_world
+
+    parser = argparse.ArgumentParser()
+    add_parser(parser.add_subparsers())
+    args = parser.parse_args(["gas", "--mode", "exact", *options])
+    source: ExactGas = _exact_gas(args, tuple(parse_species(text) for text in args.species or ()))
+    checked = source.checked()
+    world = checked.world()
+    observer = observer_for(checked, world, observe, samples)
+    kept: list[Path] = []
+
+    def save(energy_start: float, seconds: float) -> None:
+        kept.append(tmp_path / f"at{len(kept)}.npz")
+        write_checkpoint(kept[-1], source, world, energy_start, seconds, every, observer)
+
+    run_on_world(checked, world, every=every, checkpoint=save, observer=observer)
+    return kept
+
+
+@pytest.mark.parametrize(("options", "observe", "every"), [(OBSERVED, "rdf,msd", 0.5), (OBSERVED_MIXTURE, "rdf", 0.3)])
+def test_an_observed_run_resumed_reports_as_the_observed_run_done_in_one_go(
+    tmp_path: Path, options: list[str], observe: str, every: float
+) -> None:
+    samples = 7
+    plain = gas(*options, "--observe", observe, "--samples", str(samples))  # no checkpoint
+    whole = tmp_path / "whole.npz"
+    one_go = gas(*options, "--observe", observe, "--samples", str(samples), "--checkpoint", str(whole),
+                 "--checkpoint-every", str(every))  # fmt: skip
+    assert_same_report(plain, one_go)
+    kept = _saved_along(tmp_path, options, tuple(observe.split(",")), samples, every)
+    end = float(options[options.index("--time") + 1])
+    assert [read_checkpoint(p).time for p in kept] == [every * (k + 1) for k in range(len(kept) - 1)] + [run_end(end)]
+    # before the observation's origin (0.2 of the run), and mid-way through its samples
+    taken = [read_checkpoint(p).observer for p in kept]
+    before = [p for p, o in zip(kept, taken, strict=True) if o is not None and not o._origin_taken]
+    within = [p for p, o in zip(kept, taken, strict=True) if o is not None and 0 < o._k < samples]
+    assert before and len(within) >= 2
+    for start in (before[0], within[0], within[-1]):
+        continued = resume("--resume", str(start), "--checkpoint", str(tmp_path / f"on-{start.name}"))
+        assert continued["resumed_at"] == read_checkpoint(start).time
+        assert continued["rdf"]["samples"] == samples
+        assert_same_report(continued, one_go)
+        assert_same_state(tmp_path / f"on-{start.name}", whole)
+    # the same options given again (the names in another order) are accepted; so is resuming the end
+    again = resume("--resume", str(within[0]), "--observe", ",".join(reversed(observe.split(","))),
+                   "--samples", str(samples), "--time", str(end), "--mode", "exact")  # fmt: skip
+    assert_same_report(again, one_go)
+    assert_same_report(resume("--resume", str(whole)), one_go)
+
+
+def test_an_observed_checkpoint_keeps_the_whole_observer(tmp_path: Path) -> None:
+    kept = _saved_along(tmp_path, OBSERVED, ("rdf", "msd"), 5, 1.0)
+    observer = read_checkpoint(kept[1]).observer  # at time 2: samples taken, more to come
+    assert observer is not None and observer.observe == ("rdf", "msd") and observer.samples == 5
+    assert 0 < observer._k < 5 and observer._rdf_samples == observer._k == len(observer._msd)
+    assert observer._counts.sum() > 0 and observer._last <= 2.0
+    fields, arrays = observer.saved()
+    with np.load(kept[1], allow_pickle=False) as members:
+        header = json.loads(members["header"].tobytes())
+        for name, array in arrays.items():
+            assert members[name].tobytes() == np.ascontiguousarray(array).tobytes(), name
+    assert header["observer"] == fields
+    assert header["version"] == VERSION and _header(kept[1])["observer"]["names"] == ["A"]
+
+
+@pytest.fixture(scope="module")
+def observed(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("observed") / "observed.npz"
+    gas("--n", "100", "--dim", "2", "--boundary", "periodic", "--time", "1", "--observe", "rdf,msd",
+        "--samples", "4", "--checkpoint", str(path), "--checkpoint-every", "0.5")  # fmt: skip
+    return path
+
+
+def test_resume_of_an_observed_run_keeps_its_observation(observed: Path, saved: Path, tmp_path: Path) -> None:
+    for argv, message in (
+        (["--time", "2"], "--time: an observed run ends at the time it was started with, 1.0"),
+        (["--observe", "msd"], "--observe: contradicts the checkpoint, whose run observes rdf,msd"),
+        (["--observe", "rdf,foo"], "--observe: must be a comma list of rdf, msd"),
+        (["--samples", "5"], "--samples: contradicts the checkpoint, whose run observes rdf,msd at 4 samples"),
+    ):
+        result = run_cli(["gas", "--resume", str(observed), *argv, "--checkpoint", str(tmp_path / "x.npz")])
+        assert result.status == 2 and result.err.count("\n") == 1, result.err
+        assert result.err.startswith(f"collisionlab gas: {message}"), result.err
+    for argv, message in (  # a run not observed cannot start observing when resumed
+        (["--observe", "rdf"], "--observe: the checkpoint's run was not observed"),
+        (["--samples", "5"], "--samples: needs --observe"),
+    ):
+        result = run_cli(["gas", "--resume", str(saved), *argv])
+        assert result.status == 2 and result.err.count("\n") == 1, result.err
+        assert result.err.startswith(f"collisionlab gas: {message}"), result.err
+    result = run_cli(
+        ["gas", "--mode", "exact", "--n", "100", "--observe", "rdf", "--checkpoint", str(tmp_path / "w.npz")]
+    )
+    assert result.status == 2 and result.err.startswith("collisionlab gas: --observe: needs --boundary periodic")
+    assert not (tmp_path / "x.npz").exists() and not (tmp_path / "w.npz").exists()
+
+
+def _resigned(header: dict[str, Any], path: Path, target: Path, drop: str = "", **changed: Any) -> None:
+    """``path`` rewritten with ``header`` and the arrays ``changed`` (``drop`` left out), its
+    checksum made again: only the reader's checks can refuse it."""
+    from collisionlab.edmd.checkpoint import _digest
+
+    with np.load(path, allow_pickle=False) as members:
+        arrays = {name: members[name] for name in members.files if name not in ("header", drop)}
+    arrays.update(changed)
+    header = {**header, "sha256": _digest(header, arrays)}
+    np.savez(target, header=np.frombuffer(json.dumps(header).encode(), dtype=np.uint8), **arrays)
+
+
+def test_bad_observers_are_refused(observed: Path, tmp_path: Path) -> None:
+    header = _header(observed)
+    assert header["observer"]["k"] == 4 and header["observer"]["observe"] == ["rdf", "msd"]
+    bad = tmp_path / "bad.npz"
+    with np.load(observed, allow_pickle=False) as members:
+        msd, kinds = members["observer_msd"], members["observer_kinds"]
+    for changes, arrays, says in (
+        ({"k": 5}, {}, "sample counts"),
+        ({"k": 3}, {}, "sample counts"),  # rdf_samples 4
+        ({"samples": 0}, {}, "observer.samples"),
+        ({"observe": ["rdf", "g"]}, {}, "observer.observe"),
+        ({"end": 2.0}, {}, "'end'"),
+        ({"names": ["B"]}, {}, "species"),
+        ({"last": None}, {}, "'last'"),
+        ({"last": 5.0}, {}, "'last'"),
+        ({"speed": -1.0}, {}, "'speed'"),
+        ({"origin_taken": False}, {}, "origin_taken"),
+        ({}, {"observer_msd": msd[:2]}, "observer_msd has shape"),
+        ({}, {"observer_kinds": kinds + 1}, "species"),
+        ({}, {"observer_counts": np.zeros(3)}, "observer_counts is float64"),
+    ):
+        _resigned({**header, "observer": {**header["observer"], **changes}}, observed, bad, **arrays)
+        assert says in _refused(bad), changes or list(arrays)
+    _resigned(header, observed, bad, drop="observer_ref")
+    assert "no observer_ref" in _refused(bad)
+    _resigned({k: v for k, v in header.items() if k != "observer"}, observed, bad)
+    assert "lacks 'observer'" in _refused(bad)
+    _resigned({**header, "version": 1, "observer": None}, observed, bad)  # the version before observers
+    assert "version 1; this collisionlab reads version 2 only" in _refused(bad)

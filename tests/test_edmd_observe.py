@@ -174,9 +174,10 @@ def test_cli_observe_of_a_mixture() -> None:
         (["--samples", "5"], "collisionlab gas: --samples: needs --observe rdf,msd"),
         (["--observe", "msd", "--samples", "0"], "collisionlab gas: --samples: must be 1 to 100,000 (got 0)"),
         (
-            ["--observe", "msd", "--checkpoint", "c.npz"],
-            "collisionlab gas: --observe: is not available with --checkpoint",
+            ["--observe", "msd", "--boundary", "walls", "--checkpoint", "c.npz"],
+            "collisionlab gas: --observe: needs --boundary periodic",
         ),
+        (["--samples", "5", "--checkpoint", "c.npz"], "collisionlab gas: --samples: needs --observe rdf,msd"),
     ],
 )
 def test_cli_observe_errors(extra: list[str], message: str, tmp_path: object) -> None:

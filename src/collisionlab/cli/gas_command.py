@@ -203,7 +203,8 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
         "--observe",
         metavar="LIST",
         help="structure and transport, a comma list of rdf (g(r) per species pair, its contact value and Z from it) "
-        "and msd (mean-squared displacement, self-diffusion and Enskog's); periodic box only",
+        "and msd (mean-squared displacement, self-diffusion and Enskog's); periodic box only; with --checkpoint "
+        "the observation is saved too, and --resume goes on observing (its own --observe, --samples and --time)",
     )
     exact.add_argument(
         "--samples",
@@ -454,7 +455,7 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
 #: What a resumed run may change (the rest is the checkpoint's), for the messages.
 _MAY_CHANGE = "only --time, --checkpoint, --checkpoint-every, --format and --quiet may change"
 #: Options whose files a continued run could not continue.
-_NOT_WITH_CHECKPOINTS = ("events", "trajectory", "frames", "plot", "observe", "samples")
+_NOT_WITH_CHECKPOINTS = ("events", "trajectory", "frames", "plot")
 
 
 def _contradictions(args: argparse.Namespace, gas: Any) -> None:
@@ -480,21 +481,60 @@ def _contradictions(args: argparse.Namespace, gas: Any) -> None:
             )
 
 
+def _observation_kept(args: argparse.Namespace, resumed: Any) -> None:
+    """:class:`InvalidInputError` naming ``--observe``, ``--samples`` or ``--time`` when a
+    resumed run would not observe as its checkpoint's run did: an observed run goes on observing
+    as it was started (``--observe`` and ``--samples`` left out or the same), to the end its
+    samples were laid out for (its own ``--time``); a run not observed cannot start observing."""
+    observer = resumed.observer
+    if observer is None:
+        if args.observe is not None:
+            raise InvalidInputError(
+                "observe", "the checkpoint's run was not observed (an observation starts with its run)"
+            )
+        _observe_checked(args)  # (--samples alone: needs --observe)
+        return
+    stored = ",".join(observer.observe)
+    if args.observe is not None and set(_observe_checked(args)) != set(observer.observe):
+        raise InvalidInputError(
+            "observe", f"contradicts the checkpoint, whose run observes {stored} (a resumed run keeps its own)"
+        )
+    if args.samples is not None and args.samples != observer.samples:
+        raise InvalidInputError(
+            "samples",
+            f"contradicts the checkpoint, whose run observes {stored} at {observer.samples} samples "
+            "(a resumed run keeps its own)",
+            got=args.samples,
+        )
+    if "time" in getattr(args, _GIVEN, frozenset()) and args.time != resumed.gas.time:
+        raise InvalidInputError(
+            "time",
+            f"an observed run ends at the time it was started with, {resumed.gas.time!r} (its samples are laid "
+            "out over it): leave --time out or give that",
+            got=args.time,
+        )
+
+
 def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
     """``--mode exact`` with ``--checkpoint FILE`` or ``--resume FILE``: the run on its
     event-driven world (one kind of ball or a mixture; the same numbers as the scenario's run),
     saved atomically every ``--checkpoint-every`` of simulated time and at the end
     (:mod:`collisionlab.edmd.checkpoint`); a resumed run goes on from its checkpoint to the
-    total time ``--time`` (default: its own) and ends as the run done in one go would."""
+    total time ``--time`` (default: its own) and ends as the run done in one go would. An
+    observed run (``--observe``) saves its observer with it and, resumed, goes on observing as
+    it was started, to its own end (:func:`_observation_kept`): its report is the one of the
+    observed run done in one go."""
     from dataclasses import replace
 
     from ..atomic import check_target
     from ..edmd.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
-    from ..edmd.observables import parse_species, run_end, run_on_world
+    from ..edmd.observables import observer_for, parse_species, run_end, run_on_world
+    from ..edmd.structure import DEFAULT_SAMPLES
     from ..validate import positive
 
     notes = not args.quiet
     resumed = None
+    observe: tuple[str, ...] = ()
     try:
         for name in _NOT_WITH_CHECKPOINTS:
             if getattr(args, name) is not None:
@@ -508,6 +548,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
         every = None if args.checkpoint_every is None else positive(args.checkpoint_every, "checkpoint_every")
         if args.resume is None:
             species = tuple(parse_species(text) for text in args.species or ())
+            observe = _observe_checked(args)
             source = _exact_gas(args, species)
             gas = source.checked()
             target = args.checkpoint
@@ -521,6 +562,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
                 streams.err(f"{_PROG}: --resume: cannot read {args.resume}: {err.strerror or err}")
                 return 1
             _contradictions(args, resumed.gas)
+            _observation_kept(args, resumed)
             total = args.time if "time" in getattr(args, _GIVEN, frozenset()) else resumed.gas.time
             source = replace(resumed.gas, time=total)
             gas = source.checked()
@@ -535,6 +577,13 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
         check_target(target, "checkpoint")
         compile_seconds = interruptible(lambda: load_kernels("event-driven", streams.err if notes else None))
         balls = gas.world() if resumed is None else resumed.world  # (the start checked: a lattice that fits)
+        if resumed is not None:
+            observer = resumed.observer  # (as it was: it goes on observing)
+        elif observe:
+            samples = DEFAULT_SAMPLES if args.samples is None else args.samples
+            observer = observer_for(gas, balls, observe, samples)
+        else:
+            observer = None
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
@@ -546,7 +595,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
 
     def save(energy_start: float, seconds: float) -> None:
         nonlocal written
-        write_checkpoint(target, source, balls, energy_start, seconds, every)
+        write_checkpoint(target, source, balls, energy_start, seconds, every, observer)
         written += 1
 
     bar = ProgressBar(streams, label="gas time")
@@ -562,6 +611,7 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
                 seconds=0.0 if resumed is None else resumed.seconds,
                 every=every,
                 checkpoint=save,
+                observer=observer,
             )
         report["compile_seconds"] = compile_seconds
         report["checkpoint"], report["checkpoints_written"] = target, written

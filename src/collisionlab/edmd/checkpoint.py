@@ -9,14 +9,33 @@ of ``.npy`` arrays, no pickle) holding:
   radius, mass or null]``), ``run`` (what the run carries that is not in the world's arrays:
   ``energy_start``, the total energy at time 0 for ``energy_drift``; ``seconds``, the loop's
   wall-clock time so far; ``checkpoint_every``), ``world`` (its ``shell``, ``time``, ``n``,
-  ``dim``) and ``sha256``;
+  ``dim``), ``observer`` and ``sha256``;
 * every array of :data:`~.world.STATE_ARRAYS`: the bodies as stored (each at the time of its
   last event), neighbour lists, cells, the event calendar, parameters, every accumulator and
-  counter (``G``, ``K``) and the species' tallies (``S, KS, SE``).
+  counter (``G``, ``K``) and the species' tallies (``S, KS, SE``);
+* for an observed run (``--observe``), the arrays of :data:`~.structure.OBSERVER_ARRAYS`: the
+  g(r) pair counts summed so far (``observer_counts``, int64, one row per unordered pair of
+  species), the MSD at each sample taken (``observer_msd``), the unwrapped positions, those at
+  the observation's origin and those of the last stop (``observer_unwrapped``,
+  ``observer_start``, ``observer_ref``, ``(n, dim)``) and each ball's species
+  (``observer_kinds``).
+
+``observer`` is ``null`` for a run not observed, else (:meth:`.structure.Observer.saved`) the
+observation's settings, ``observe`` (names, in :data:`~.structure.OBSERVABLES`' order),
+``samples``, ``end`` (the run's end its sample times were laid out for) and the species'
+``names``, and its scalars: ``k`` (samples taken), ``rdf_samples``, ``last`` (the time of the
+last stop), ``speed`` (the fastest ball's then: the next unwrapping stop), ``origin_taken`` and
+``virial`` (the collision virial at the origin). Read back, the observer is made again for the
+run as it was at the start (:func:`~.observables.observer_for`) and given this state
+(:meth:`.structure.Observer.restore`, which checks it against the run): the continued run
+stops, samples and reports as the observed run done in one go, to the last bit. Its sample
+times are laid out over the run's ``time`` as it was started, so an observed run cannot be
+continued to another total time (``collisionlab gas --resume`` refuses ``--time`` then).
 
 The world is stored as it is, not rebuilt, so a run continued from a checkpoint handles the same
 events with the same numbers as the run done in one go (the loop's result does not depend on
-where a run is split into calls: :meth:`~.world.EventDrivenWorld.run`). Nothing random is drawn
+where a run is split into calls: :meth:`~.world.EventDrivenWorld.run`; nor does an observer's
+stopping it). Nothing random is drawn
 after the start (the seed only places the balls and their velocities), so there is no random
 state to keep.
 
@@ -50,15 +69,17 @@ from numpy.typing import NDArray
 
 from ..errors import CollisionLabError, escape_controls
 from . import layout as L
-from .observables import ExactGas, Species
+from .observables import ExactGas, Species, observer_for
+from .structure import OBSERVABLES, OBSERVER_ARRAYS, Observer
 from .world import STATE_ARRAYS, EventDrivenWorld
 
 __all__ = ["FORMAT", "VERSION", "Checkpoint", "CheckpointError", "read_checkpoint", "write_checkpoint"]
 
 #: The ``format`` field of every checkpoint's header.
 FORMAT = "collisionlab-edmd-checkpoint"
-#: The layout this code writes and reads; a file of another version is refused.
-VERSION = 1
+#: The layout this code writes and reads; a file of another version is refused. (2: the
+#: header's ``observer`` and the observer's arrays; version 1 files, without them, are refused.)
+VERSION = 2
 #: The first bytes of a zip file (an ``.npz``).
 _ZIP_MAGIC = b"PK\x03\x04"
 #: The ``.npz`` member holding the header.
@@ -102,6 +123,9 @@ class Checkpoint:
     every: float | None
     #: The simulated time the checkpoint was written at (the world's, until it runs on).
     time: float
+    #: An observed run's observer (``--observe``), as it was, on :attr:`world`; ``None``: the
+    #: run was not observed.
+    observer: Observer | None = None
 
 
 def _gas_header(gas: ExactGas) -> dict[str, Any]:
@@ -127,18 +151,25 @@ def write_checkpoint(
     energy_start: float,
     seconds: float,
     every: float | None,
+    observer: Observer | None = None,
 ) -> None:
     """Write ``world`` (as it is stored: call between runs, never after anything that brings
     the bodies to one time) and the run's ``gas`` (as given, unchecked: it is checked again when
-    read), ``energy_start`` and ``seconds`` to ``path``, atomically (see the module's
+    read), ``energy_start`` and ``seconds`` to ``path``, with an observed run's ``observer``
+    (its whole state: :meth:`.structure.Observer.saved`), atomically (see the module's
     docstring). An :class:`OSError` names ``path``."""
     arrays = world.state_arrays()
+    observed: dict[str, Any] | None = None
+    if observer is not None:
+        observed, observer_arrays = observer.saved()
+        arrays = {**arrays, **observer_arrays}
     header: dict[str, Any] = {
         "format": FORMAT,
         "version": VERSION,
         "gas": _gas_header(gas),
         "run": {"energy_start": energy_start, "seconds": seconds, "checkpoint_every": every},
         "world": {"shell": world.shell, "time": world.time, "n": world.n, "dim": world.dim},
+        "observer": observed,
     }
     header["sha256"] = _digest(header, arrays)
     members: dict[str, Any] = {_HEADER: np.frombuffer(json.dumps(header).encode(), dtype=np.uint8), **arrays}
@@ -212,7 +243,36 @@ def read_checkpoint(path: str | Path) -> Checkpoint:
         seconds=_number(run.get("seconds"), "run.seconds", refuse),
         every=None if every is None else _number(every, "run.checkpoint_every", refuse),
         time=world.time,
+        observer=_observer(header["observer"], arrays, gas, world, refuse),
     )
+
+
+def _observer(
+    raw: dict[str, Any] | None, arrays: dict[str, NDArray[Any]], gas: ExactGas, world: EventDrivenWorld, refuse: Any
+) -> Observer | None:
+    """An observed run's observer, made for ``gas`` on ``world`` as the run made it, its state
+    taken back (:meth:`.structure.Observer.restore`); ``None`` when the run was not observed."""
+    if raw is None:
+        return None
+    observe, samples = raw.get("observe"), raw.get("samples")
+    if (
+        not isinstance(observe, list)
+        or not observe
+        or any(name not in OBSERVABLES for name in observe)
+        or isinstance(samples, bool)
+        or not isinstance(samples, int)
+        or samples < 1
+    ):
+        raise refuse("header field observer.observe or observer.samples is not an observation")
+    for name, dtype in OBSERVER_ARRAYS.items():
+        if arrays[name].dtype != np.dtype(dtype):
+            raise refuse(f"array {name} is {arrays[name].dtype}, expected {np.dtype(dtype)}")
+    try:
+        observer = observer_for(gas.checked(), world, tuple(observe), samples)
+        observer.restore(raw, arrays)
+    except ValueError as error:  # (InvalidInputError is a ValueError)
+        raise refuse(f"header field 'observer' is not this run's: {escape_controls(str(error))}") from None
+    return observer
 
 
 def _members(stream: Any, refuse: Any) -> tuple[dict[str, NDArray[Any]], dict[str, Any]]:
@@ -223,10 +283,13 @@ def _members(stream: Any, refuse: Any) -> tuple[dict[str, NDArray[Any]], dict[st
             if _HEADER not in names:
                 raise refuse(f"not a collisionlab checkpoint (no {_HEADER!r} in it)")
             header = _header(_array(members, _HEADER, refuse), refuse)
-            missing = sorted(set(STATE_ARRAYS) - names)
+            if "observer" not in header or not (header["observer"] is None or isinstance(header["observer"], dict)):
+                raise refuse("header lacks 'observer' (null for a run not observed)")
+            wanted = (*STATE_ARRAYS, *(OBSERVER_ARRAYS if header["observer"] is not None else ()))
+            missing = sorted(set(wanted) - names)
             if missing:
                 raise refuse(f"incomplete checkpoint: no {', '.join(missing)}")
-            return {name: _array(members, name, refuse) for name in STATE_ARRAYS}, header
+            return {name: _array(members, name, refuse) for name in wanted}, header
     except CheckpointError:
         raise
     except (zipfile.BadZipFile, ValueError, OSError, EOFError, KeyError) as error:

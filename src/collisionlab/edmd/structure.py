@@ -58,6 +58,7 @@ __all__ = [
     "DEFAULT_SAMPLES",
     "FIT_FROM",
     "OBSERVABLES",
+    "OBSERVER_ARRAYS",
     "OBSERVE_FROM",
     "RDF_MAX_BALLS",
     "UNWRAP_SAFETY",
@@ -90,6 +91,24 @@ FIT_FROM = 0.5
 UNWRAP_SAFETY = 16.0
 #: g(r) counts every pair (O(N^2) per sample): refused above this many balls.
 RDF_MAX_BALLS = 20_000
+#: The arrays of an :class:`Observer`'s state (:meth:`Observer.saved`), as a checkpoint names
+#: them, each with its dtype.
+OBSERVER_ARRAYS = {
+    "observer_counts": np.int64,
+    "observer_msd": np.float64,
+    "observer_unwrapped": np.float64,
+    "observer_start": np.float64,
+    "observer_ref": np.float64,
+    "observer_kinds": np.int64,
+}
+
+
+def _is_int(value: object) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_finite(value: object) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
 
 
 def parse_observables(text: str) -> tuple[str, ...]:
@@ -242,6 +261,82 @@ class Observer:
         self._counts = np.zeros((self.species * (self.species + 1) // 2, int(0.5 * side / self.width)), dtype=np.int64)
         self._msd: list[float] = []
         self._rdf_samples = 0
+
+    @property
+    def observe(self) -> tuple[str, ...]:
+        """The names of what is observed, in :data:`OBSERVABLES`' order."""
+        return tuple(name for name in OBSERVABLES if getattr(self, name))
+
+    def saved(self) -> tuple[dict[str, Any], dict[str, NDArray[Any]]]:
+        """The observer's whole state, for a checkpoint: its settings and scalars (JSON: floats
+        as ``repr`` gives them, read back to the same bits) and its arrays
+        (:data:`OBSERVER_ARRAYS`). :meth:`restore` on an observer made as this one was (same
+        gas, ``observe``, ``samples`` and end) takes it back to this very state."""
+        fields = {
+            "observe": list(self.observe),
+            "samples": self.samples,
+            "end": self.end,
+            "names": list(self.names),
+            "k": self._k,
+            "last": self._last,
+            "speed": self._speed,
+            "origin_taken": self._origin_taken,
+            "virial": self._virial,
+            "rdf_samples": self._rdf_samples,
+        }
+        arrays = {
+            "observer_counts": self._counts,
+            "observer_msd": np.array(self._msd, dtype=np.float64),
+            "observer_unwrapped": self._unwrapped,
+            "observer_start": self._start,
+            "observer_ref": self._ref,
+            "observer_kinds": np.asarray(self.kinds, dtype=np.int64),
+        }
+        return fields, arrays
+
+    def restore(self, fields: dict[str, Any], arrays: dict[str, NDArray[Any]]) -> None:
+        """Take back the state :meth:`saved` gave (this observer made for the same run, on the
+        world as it was saved); :class:`ValueError` with one line naming what disagrees, the
+        observer unchanged then."""
+        if fields.get("observe") != list(self.observe) or fields.get("samples") != self.samples:
+            raise ValueError("the observer's 'observe' or 'samples' disagree with the run's")
+        if fields.get("end") != self.end:
+            raise ValueError("the observer's 'end' is not the run's end")
+        if fields.get("names") != list(self.names) or not np.array_equal(arrays["observer_kinds"], self.kinds):
+            raise ValueError("the observer's species disagree with the run's")
+        k: Any = fields.get("k")
+        rdf_samples: Any = fields.get("rdf_samples")
+        if not _is_int(k) or not 0 <= k <= self.samples or rdf_samples != (k if self.rdf else 0):
+            raise ValueError("the observer's sample counts are out of range")
+        origin_taken = fields.get("origin_taken")
+        if not isinstance(origin_taken, bool) or (k > 0 and not origin_taken):
+            raise ValueError("the observer's 'origin_taken' must be true or false (true once sampled)")
+        numbers: dict[str, Any] = {name: fields.get(name) for name in ("last", "speed", "virial")}
+        for name, value in numbers.items():
+            if not _is_finite(value):
+                raise ValueError(f"the observer's {name!r} must be a finite number")
+        if not 0.0 <= float(numbers["last"]) <= self.world.time or float(numbers["speed"]) < 0.0:
+            raise ValueError("the observer's 'last' is after the world's time or its 'speed' is negative")
+        shape = self._unwrapped.shape
+        expected = {
+            "observer_counts": self._counts.shape,
+            "observer_msd": (k if self.msd else 0,),
+            "observer_unwrapped": shape,
+            "observer_start": shape,
+            "observer_ref": shape,
+        }
+        for name, wanted in expected.items():
+            if arrays[name].shape != wanted:
+                raise ValueError(f"the observer's array {name} has shape {arrays[name].shape}, expected {wanted}")
+        self._k = int(k)
+        self._rdf_samples = int(rdf_samples)
+        self._origin_taken = origin_taken
+        self._last, self._speed, self._virial = (float(numbers[name]) for name in ("last", "speed", "virial"))
+        self._counts = arrays["observer_counts"].copy()
+        self._msd = [float(x) for x in arrays["observer_msd"]]
+        self._unwrapped = arrays["observer_unwrapped"].copy()
+        self._start = arrays["observer_start"].copy()
+        self._ref = arrays["observer_ref"].copy()
 
     def next_stop(self) -> float:
         """The next time the run must stop at: the next sample, or sooner to unwrap."""
