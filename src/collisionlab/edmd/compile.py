@@ -32,11 +32,11 @@ from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
 from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_call", "jit_inline", "prefetch"]
+__all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_inline", "prefetch"]
 
 #: What the first compile of these kernels takes on a 2-core machine, for the notice a run or
 #: ``collisionlab compile`` gives (bench/LOG.md, "Compiling the event-driven kernels").
-COMPILE_TAKES = "about a minute"
+COMPILE_TAKES = "about two minutes"
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _A = TypeVar("_A")
@@ -48,24 +48,16 @@ def jit(function: _F) -> _F:
 
 
 def jit_inline(function: _F) -> _F:
-    """As :func:`jit`, and inlined into its callers by numba itself: the event loop's steps (a
-    collision, a prediction, the calendar's next event) take a dozen arrays each, and a real call
-    would pass every array's descriptor and adjust its reference count, which cost more than the
-    work. numba types an inlined function again at every call site, so this is kept to the few
-    that make the loop; the rest are :func:`jit_call` (bench/LOG.md, "Compiling the event-driven
-    kernels", measures the compile's time and memory both ways, and the loop's speed)."""
+    """As :func:`jit`, and inlined into its callers by numba itself: the hot helpers of the
+    event loop take a dozen arrays each, and a real call would pass every array's descriptor and
+    adjust its reference count, which cost more than the work. (Inlining only the dozen that make
+    the loop compiled in a third of the time and memory at the same speed, but numba then compiled
+    the called helpers once for each constant or integer width they were given, and the mixes
+    that avoided that ran at 0.6-0.8x: bench/LOG.md, "Compiling the event-driven kernels".)"""
     return cast(_F, numba.njit(cache=True, error_model="numpy", inline="always")(function))
 
 
-def jit_call(function: _F) -> _F:
-    """As :func:`jit`, for a helper that is called, not inlined by numba (LLVM still inlines it
-    where it is small), and allocates nothing: compiled without reference counts, so a call
-    passes its arrays as they are (none of numba's ``NRT_incref`` / ``NRT_decref``)."""
-    options: dict[str, Any] = {"cache": True, "error_model": "numpy", "_nrt": False}  # (_nrt: not in numba's stubs)
-    return cast(_F, numba.njit(**options)(function))
-
-
-@jit_call
+@jit_inline
 def flag(value: bool) -> bool:
     """``value`` as an ordinary bool, not the constant ``True`` or ``False``: numba types a constant
     argument as itself (``Literal[bool](True)``) and would compile the kernel it is passed to once
