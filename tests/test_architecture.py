@@ -57,6 +57,16 @@ COLLISION_LAYER = (
     "collisionlab.engine.exact_settle",
     "collisionlab.engine.exact_impacts",
     "collisionlab.engine.exact_step_end",
+    "collisionlab.engine.contact_kernels",  # the contact stepper's loop, and the files of its phases:
+    "collisionlab.engine.contact_flight",
+    "collisionlab.engine.contact_time_of_impact",
+    "collisionlab.engine.contact_candidates",
+    "collisionlab.engine.contact_impacts",
+    "collisionlab.engine.contact_memory",
+    "collisionlab.engine.contact_qp",
+    "collisionlab.engine.contact_solver",
+    "collisionlab.engine.contact_push_apart",
+    "collisionlab.engine.contact_islands",
     "collisionlab.engine.step_kernels",
     "collisionlab.engine.event_heap",
 )

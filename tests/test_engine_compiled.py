@@ -32,6 +32,17 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
         "exact_impacts",
         "exact_step_end",
     ]
+    contact = [
+        "contact_flight",
+        "contact_memory",
+        "contact_qp",
+        "contact_time_of_impact",
+        "contact_candidates",
+        "contact_islands",
+        "contact_impacts",
+        "contact_solver",
+        "contact_push_apart",
+    ]
     assert set(dropped) == {
         "geometry_kernels",
         "event_heap",
@@ -39,6 +50,7 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
         "exact_kernels",
         "contact_kernels",
         *exact,
+        *contact,
     }
     assert "geometry_kernels.py" in dropped["geometry_kernels"]
     assert {"step_kernels.py", "geometry_kernels.py"} <= set(dropped["step_kernels"])
@@ -48,6 +60,12 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
     # call the geometry kernels and the event heap; the loop itself imports neither).
     assert {f"{stem}.py" for stem in exact} <= set(dropped["exact_kernels"])
     assert {"exact_impulses.py", "geometry_kernels.py"} <= set(dropped["exact_rest"])
+    # The same for the contact stepper: its loop holds every file of its phases; the quadratic
+    # program is held by the solve and push-apart, and calls no other file.
+    assert {f"{stem}.py" for stem in contact} <= set(dropped["contact_kernels"])
+    assert {"contact_qp.py", "contact_memory.py", "step_kernels.py"} <= set(dropped["contact_solver"])
+    assert set(dropped["contact_qp"]) == {"contact_qp.py", "tolerances.py", "compiled.py"}
+    assert "contact_solver.py" not in dropped["contact_islands"]  # not dropped for another phase's edit
     assert "exact_impacts.py" not in dropped["exact_rest"]  # a file is not dropped for its callers' edits
     assert all({"compiled.py", "tolerances.py"} <= set(names) for names in dropped.values())
     # The kernels read no policy file: an edit of limits.py never recompiles them.

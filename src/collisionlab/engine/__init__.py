@@ -20,8 +20,13 @@ Euler) or exactly.
   :mod:`.exact_impulses` and :mod:`.exact_flight`; :mod:`.exact_stepper` keeps its state
   between calls.
 * :mod:`.contact_kernels` - exact mode with ``contacts = "solve"``: impacts at their time of
-  impact, slow and resting contacts solved together at mid-step (warm-started projected
-  Gauss-Seidel), bodies at rest asleep; :mod:`.contact_stepper` keeps its state between calls.
+  impact, slow and resting contacts solved together at mid-step (warm-started MPRGP,
+  then APGD), bodies at rest asleep: its loop; one file per concept it calls,
+  :mod:`.contact_candidates`, :mod:`.contact_flight`, :mod:`.contact_time_of_impact`,
+  :mod:`.contact_impacts` (impacts in time order), :mod:`.contact_solver` (the mid-step solve),
+  :mod:`.contact_qp` (its quadratic program), :mod:`.contact_memory`, :mod:`.contact_push_apart`
+  and :mod:`.contact_islands` (islands and sleep); :mod:`.contact_stepper` keeps its state
+  between calls.
 * :mod:`.event_heap` - the exact steppers' event calendar.
 * :mod:`.event_stepper` - balls in a box run event by event (the loop of
   :mod:`collisionlab.edmd`: neighbour lists, an event calendar), for ``mode = "exact"``.

@@ -105,7 +105,32 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
         "exact_impacts",
         "exact_step_end",
     ),
-    "contact_kernels": ("geometry_kernels", "step_kernels", "event_heap"),
+    # The contact stepper, one concept per file (contact_kernels.py, the loop, lists them).
+    "contact_flight": (),
+    "contact_memory": ("step_kernels",),
+    "contact_qp": (),
+    "contact_time_of_impact": ("geometry_kernels", "step_kernels", "contact_flight"),
+    "contact_candidates": ("step_kernels", "contact_time_of_impact"),
+    "contact_islands": ("step_kernels", "contact_time_of_impact", "contact_candidates"),
+    "contact_impacts": (
+        "geometry_kernels",
+        "step_kernels",
+        "event_heap",
+        "contact_flight",
+        "contact_time_of_impact",
+        "contact_islands",
+    ),
+    "contact_solver": ("step_kernels", "contact_time_of_impact", "contact_memory", "contact_qp"),
+    "contact_push_apart": ("step_kernels", "contact_time_of_impact", "contact_qp"),
+    "contact_kernels": (
+        "step_kernels",
+        "contact_candidates",
+        "contact_impacts",
+        "contact_islands",
+        "contact_push_apart",
+        "contact_qp",
+        "contact_solver",
+    ),
 }
 
 #: The global a compiled copy finds an imported kernel file's compiled copy under.
@@ -121,6 +146,15 @@ _GLOBAL_NAMES = {
     "exact_settle": "_EXACT_SETTLE",
     "exact_step_end": "_EXACT_STEP_END",
     "exact_impacts": "_EXACT_IMPACTS",
+    "contact_flight": "_CONTACT_FLIGHT",
+    "contact_memory": "_CONTACT_MEMORY",
+    "contact_qp": "_CONTACT_QP",
+    "contact_time_of_impact": "_CONTACT_TIME_OF_IMPACT",
+    "contact_candidates": "_CONTACT_CANDIDATES",
+    "contact_islands": "_CONTACT_ISLANDS",
+    "contact_impacts": "_CONTACT_IMPACTS",
+    "contact_solver": "_CONTACT_SOLVER",
+    "contact_push_apart": "_CONTACT_PUSH_APART",
 }
 
 
@@ -182,7 +216,8 @@ def exact_kernels() -> types.ModuleType:
 
 
 def contact_kernels() -> types.ModuleType:
-    """The compiled :mod:`~collisionlab.engine.contact_kernels` (calling the compiled step kernels)."""
+    """The compiled :mod:`~collisionlab.engine.contact_kernels` (calling the compiled step kernels
+    and the compiled files of its phases)."""
     return _module("contact_kernels")
 
 
