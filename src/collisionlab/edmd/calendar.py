@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .compile import jit, jit_inline, prefetch
+from .compile import jit, jit_call, jit_inline, prefetch
 from .layout import EVT, HPOS, K_AHEAD, K_BUCKETED, K_CUR, K_HEAP, NB_UNSCHEDULED, P_BLOCK, Q_NB, QID, QNEXT, QPREV, X
 
 __all__ = [
@@ -36,7 +36,7 @@ __all__ = [
 _FAR_BLOCKS = 1e17
 
 
-@jit_inline
+@jit_call
 def _sift_up(heap: Any, F: Any, IX: Any, pos: int) -> None:
     i = heap[pos]
     t = F[i, EVT]
@@ -52,7 +52,7 @@ def _sift_up(heap: Any, F: Any, IX: Any, pos: int) -> None:
     IX[i, HPOS] = pos
 
 
-@jit_inline
+@jit_call
 def _sift_down(heap: Any, F: Any, IX: Any, pos: int, size: int) -> None:
     i = heap[pos]
     t = F[i, EVT]
@@ -78,7 +78,7 @@ def _sift_down(heap: Any, F: Any, IX: Any, pos: int, size: int) -> None:
     IX[i, HPOS] = pos
 
 
-@jit_inline
+@jit_call
 def _heap_push(heap: Any, F: Any, IX: Any, K: Any, i: int) -> None:
     pos = K[K_HEAP]
     K[K_HEAP] = pos + 1
@@ -86,7 +86,7 @@ def _heap_push(heap: Any, F: Any, IX: Any, K: Any, i: int) -> None:
     _sift_up(heap, F, IX, pos)
 
 
-@jit_inline
+@jit_call
 def _heap_delete(heap: Any, F: Any, IX: Any, K: Any, pos: int) -> None:
     size = K[K_HEAP] - 1
     K[K_HEAP] = size
@@ -101,7 +101,7 @@ def _heap_delete(heap: Any, F: Any, IX: Any, K: Any, pos: int) -> None:
         _sift_down(heap, F, IX, pos, size)
 
 
-@jit_inline
+@jit_call
 def _block_of(t: float, block: float) -> int:
     q = t / block
     if q >= _FAR_BLOCKS:
@@ -109,7 +109,7 @@ def _block_of(t: float, block: float) -> int:
     return int(q)
 
 
-@jit_inline
+@jit_call
 def _list_push(IX: Any, lists: Any, q: int, i: int) -> None:
     head = lists[q]
     IX[i, QNEXT] = head
@@ -201,7 +201,7 @@ def calendar_next(heap: Any, lists: Any, F: Any, IX: Any, P: Any, Q: Any, K: Any
     return int(heap[0])
 
 
-@jit_inline
+@jit_call
 def _start_ahead(F: Any, IX: Any, K: Any, i: int) -> None:
     """Fetch the rows of body ``i`` of the next block's list (see :func:`calendar_fetch_ahead`)."""
     K[K_AHEAD] = i
@@ -211,7 +211,7 @@ def _start_ahead(F: Any, IX: Any, K: Any, i: int) -> None:
         prefetch(F, i, EVT)
 
 
-@jit_inline
+@jit_call
 def calendar_fetch_ahead(F: Any, IX: Any, K: Any) -> None:
     """One step along the next block's list: fetch the rows of its next body.
 

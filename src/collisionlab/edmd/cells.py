@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .compile import flag, jit, jit_inline, prefetch
+from .compile import flag, jit, jit_call, prefetch
 from .layout import CELL, EDGE, NNB, P_CUT, P_INV_H, P_L, P_REACH, Q_DIM, Q_NC, Q_PERIODIC, C, X
 
 __all__ = ["CELL_FULL", "LIST_FULL", "build_all_lists", "fetch_cells", "nearest_image", "rebuild_list"]
@@ -40,7 +40,7 @@ CELL_FULL = 4
 _SECOND_LINE = 4
 
 
-@jit_inline
+@jit_call
 def nearest_image(d: float, side: float) -> float:
     """``d`` shifted by a box side into ``[-side/2, side/2]`` (for ``|d| < 3/2 side``).
 
@@ -54,7 +54,7 @@ def nearest_image(d: float, side: float) -> float:
     return d
 
 
-@jit_inline
+@jit_call
 def _axis_of(x: float, inv_h: float, nc: int) -> int:
     c = int(x * inv_h)
     if c < 0:
@@ -64,7 +64,7 @@ def _axis_of(x: float, inv_h: float, nc: int) -> int:
     return c
 
 
-@jit_inline
+@jit_call
 def _cell_of(F: Any, P: Any, Q: Any, i: int) -> int:
     cell = 0
     stride = 1
@@ -75,7 +75,7 @@ def _cell_of(F: Any, P: Any, Q: Any, i: int) -> int:
     return cell
 
 
-@jit_inline
+@jit_call
 def _axis_cell(c: int, o: int, nc: int, periodic: bool) -> int:
     """Cell ``o - 1`` steps from ``c`` along an axis of ``nc`` cells, or -1 (outside, or a cell
     already visited when fewer than three wrap round)."""
@@ -92,7 +92,7 @@ def _axis_cell(c: int, o: int, nc: int, periodic: bool) -> int:
     return c2 if 0 <= c2 < nc else -1
 
 
-@jit_inline
+@jit_call
 def _on_edge(P: Any, Q: Any, cell: int) -> int:
     """1 if ``cell`` lies on a face of a periodic box (its neighbours may be across it)."""
     if Q[Q_PERIODIC] == 0:
@@ -107,7 +107,7 @@ def _on_edge(P: Any, Q: Any, cell: int) -> int:
     return 0
 
 
-@jit_inline
+@jit_call
 def _put_in_cell(F: Any, IX: Any, P: Any, Q: Any, CI: Any, CF: Any, i: int) -> bool:
     """Body ``i`` into the cell of its centre (False if that cell is full)."""
     cell = _cell_of(F, P, Q, i)
@@ -124,7 +124,7 @@ def _put_in_cell(F: Any, IX: Any, P: Any, Q: Any, CI: Any, CF: Any, i: int) -> b
     return True
 
 
-@jit_inline
+@jit_call
 def _take_from_cell(IX: Any, CI: Any, i: int) -> None:
     """Body ``i`` out of its cell: the cell's last body takes its slot."""
     cell = IX[i, CELL]
@@ -137,7 +137,7 @@ def _take_from_cell(IX: Any, CI: Any, i: int) -> None:
     CI[cell, 0, 0] = last - 1
 
 
-@jit_inline
+@jit_call
 def _into_box(x: float, side: float) -> float:
     if x >= side:
         return x - side
@@ -146,7 +146,7 @@ def _into_box(x: float, side: float) -> float:
     return x
 
 
-@jit_inline
+@jit_call
 def _set_centre(F: Any, P: Any, Q: Any, i: int) -> None:
     """The body's list centre becomes its position, put back into the box first (periodic)."""
     for k in range(Q[Q_DIM]):
@@ -157,7 +157,7 @@ def _set_centre(F: Any, P: Any, Q: Any, i: int) -> None:
         F[i, C + k] = x
 
 
-@jit_inline
+@jit_call
 def fetch_cells(P: Any, Q: Any, CI: Any, x: float, y: float, z: float) -> None:
     """Prefetch the first two lines of each cell around the point ``(x, y, z)`` (its count and
     first 7 bodies): where a body about to rebuild its list will look (see ``loop._fetch_ahead``,
@@ -190,7 +190,7 @@ def fetch_cells(P: Any, Q: Any, CI: Any, x: float, y: float, z: float) -> None:
                     prefetch(cell, _SECOND_LINE, 0)
 
 
-@jit_inline
+@jit_call
 def _exact_distance2(F: Any, P: Any, wrap: bool, dim: int, i: int, j: int) -> float:
     """The squared distance of ``i``'s and ``j``'s list centres, from ``F`` (float64)."""
     dx: float = F[i, C] - F[j, C]

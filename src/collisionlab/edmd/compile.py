@@ -32,11 +32,11 @@ from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
 from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_inline", "prefetch"]
+__all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_call", "jit_inline", "prefetch"]
 
 #: What the first compile of these kernels takes on a 2-core machine, for the notice a run or
 #: ``collisionlab compile`` gives (bench/LOG.md, "Compiling the event-driven kernels").
-COMPILE_TAKES = "about two minutes"
+COMPILE_TAKES = "about a minute"
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _A = TypeVar("_A")
@@ -48,16 +48,43 @@ def jit(function: _F) -> _F:
 
 
 def jit_inline(function: _F) -> _F:
-    """As :func:`jit`, and inlined into its callers by numba itself: the hot helpers of the
-    event loop take a dozen arrays each, and a real call would pass every array's descriptor and
-    adjust its reference count, which cost more than the work. (Inlining only the dozen that make
-    the loop compiled in a third of the time and memory at the same speed, but numba then compiled
-    the called helpers once for each constant or integer width they were given, and the mixes
-    that avoided that ran at 0.6-0.8x: bench/LOG.md, "Compiling the event-driven kernels".)"""
+    """As :func:`jit`, and inlined into its callers by numba itself: the event loop's steps (a
+    collision, a prediction, the calendar's next event) take a dozen arrays each, and a real call
+    would pass every array's descriptor and adjust its reference count, which cost more than the
+    work. numba types an inlined function again at every call site, so this is kept to the few
+    that make the loop; the rest are :func:`jit_call` (bench/LOG.md, "Compiling the event-driven
+    kernels", measures the compile's time and memory both ways, and the loop's speed)."""
     return cast(_F, numba.njit(cache=True, error_model="numpy", inline="always")(function))
 
 
-@jit_inline
+def jit_call(function: _F) -> _F:
+    """As :func:`jit`, for a helper that is called, not inlined by numba (LLVM still inlines it
+    where it is small), and allocates nothing: compiled without reference counts, so a call
+    passes its arrays as they are (none of numba's ``NRT_incref`` / ``NRT_decref``).
+
+    It is compiled for one set of argument types whatever its callers pass: numba would compile
+    it once for each constant (``Literal[int](0)``) and each integer width (an ``int32`` array's
+    element, an ``int64`` count) it is given, so constants are typed as their plain type and
+    every integer as ``int64`` before it compiles, and the callers' values are converted to them
+    (``tests/test_numba_cache.py`` checks that no kernel is compiled twice)."""
+    options: dict[str, Any] = {"cache": True, "error_model": "numpy", "_nrt": False}  # (_nrt: not in numba's stubs)
+    dispatcher = numba.njit(**options)(function)
+    typed_by_callers = dispatcher.get_call_template
+
+    def one_set_of_types(args: tuple[Any, ...], kws: dict[str, Any]) -> Any:
+        return typed_by_callers(tuple(_plain(arg) for arg in args), kws)
+
+    dispatcher.get_call_template = one_set_of_types
+    return cast(_F, dispatcher)
+
+
+def _plain(argument: Any) -> Any:
+    """An argument's numba type without its constant (``Literal``), integers as ``int64``."""
+    plain = types.unliteral(argument)  # type: ignore[no-untyped-call]
+    return types.int64 if isinstance(plain, types.Integer) else plain
+
+
+@jit_call
 def flag(value: bool) -> bool:
     """``value`` as an ordinary bool, not the constant ``True`` or ``False``: numba types a constant
     argument as itself (``Literal[bool](True)``) and would compile the kernel it is passed to once

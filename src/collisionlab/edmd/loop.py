@@ -41,7 +41,7 @@ from .calendar import (
     calendar_remove,
 )
 from .cells import CELL_FULL, LIST_FULL, build_all_lists, fetch_cells, nearest_image, rebuild_list
-from .compile import borrowed, jit, jit_inline, prefetch
+from .compile import borrowed, jit, jit_call, jit_inline, prefetch
 from .layout import (
     COUNT,
     EDGE,
@@ -238,7 +238,7 @@ def _predict(heap: Any, lists: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K:
     calendar_insert(heap, lists, F, IX, P, Q, K, i)
 
 
-@jit_inline
+@jit_call
 def _restitution(F: Any, P: Any, i: int, j: int, now: float) -> float:
     """``e``, or 1 under the TC model when ``i`` (or ``j >= 0``) collided less than ``t_c`` ago."""
     e: float = P[P_E]
@@ -250,7 +250,7 @@ def _restitution(F: Any, P: Any, i: int, j: int, now: float) -> float:
     return e
 
 
-@jit_inline
+@jit_call
 def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> int:
     """Start an event's row (time, a, b, impulse); returns its index, or -1 when the buffer has
     no room (the loop stops for it to be emptied before that happens)."""
@@ -265,7 +265,7 @@ def _record(buf: Any, K: Any, now: float, a: int, b: int, impulse: float) -> int
     return n
 
 
-@jit_inline
+@jit_call
 def _record_working(
     buf: Any, row: int, nx: float, ny: float, nz: float, px: float, py: float, pz: float, vn: float, e: float
 ) -> None:
@@ -281,7 +281,7 @@ def _record_working(
     buf[row, 11] = e
 
 
-@jit_inline
+@jit_call
 def _record_velocities(buf: Any, row: int, column: int, F: Any, i: int) -> None:
     """Body ``i``'s velocity into columns ``column .. column + 2`` of row ``row``."""
     buf[row, column] = F[i, V]
@@ -289,7 +289,7 @@ def _record_velocities(buf: Any, row: int, column: int, F: Any, i: int) -> None:
     buf[row, column + 2] = F[i, V + 2]
 
 
-@jit_inline
+@jit_call
 def _species_energy(SE: Any, a: int, now: float, change: float) -> None:
     """Species ``a``'s kinetic energy changes by ``change`` at ``now``: its time integral so far
     first (``SE[a]``: the energy, the time it holds since, the integral), exact without gravity,

@@ -24,18 +24,21 @@ from __future__ import annotations
 import math
 
 from ..engine import geometry_kernels as gk
-from .compile import jit_inline
+from .compile import jit_call, jit_inline
 
 __all__ = ["ceiling_time", "contact_time", "floor_time", "impulse_magnitude", "leave_time", "wall_time"]
 
 #: Two balls' time of impact, tested against every neighbour (no ``tmin``: see
 #: :func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`, why without branches),
 #: and the contact law: the engine's kernels, written once there, compiled into the loop here.
+#: Inlined by numba (never compiled on their own here): the engine's compiled copy of the same
+#: source shares numba's cache entry for a function compiled on its own, and a process that
+#: loaded this one from it would look for that copy's module.
 contact_time = jit_inline(gk.time_of_impact_ball_ball)
 impulse_magnitude = jit_inline(gk.impulse_magnitude)
 
 
-@jit_inline
+@jit_call
 def wall_time(x: float, v: float, lo: float, hi: float) -> float:
     """Time until a centre at ``x`` moving at ``v`` reaches ``lo`` (moving down) or ``hi``
     (moving up): straight flight. 0 if it is already past the wall and still moving out."""
@@ -48,7 +51,7 @@ def wall_time(x: float, v: float, lo: float, hi: float) -> float:
     return t if t > 0.0 else 0.0
 
 
-@jit_inline
+@jit_call
 def floor_time(y: float, vy: float, g: float, lo: float) -> float:
     """Time until a centre at height ``y`` with upward speed ``vy`` under gravity ``g > 0``
     comes down to ``lo``: the root of ``y + vy t - g t^2 / 2 = lo`` at which it moves down.
@@ -68,7 +71,7 @@ def floor_time(y: float, vy: float, g: float, lo: float) -> float:
     return 2.0 * h / (root - vy)
 
 
-@jit_inline
+@jit_call
 def ceiling_time(y: float, vy: float, g: float, hi: float) -> float:
     """Time until a centre at ``y`` rising at ``vy`` under gravity ``g > 0`` reaches ``hi``
     (the first root of ``y + vy t - g t^2 / 2 = hi``); ``inf`` if it turns back below it."""
@@ -83,7 +86,7 @@ def ceiling_time(y: float, vy: float, g: float, hi: float) -> float:
     return 2.0 * h / (vy + math.sqrt(disc))
 
 
-@jit_inline
+@jit_call
 def leave_time(dx: float, dy: float, dz: float, vx: float, vy: float, vz: float, g: float, skin: float) -> float:
     """Time until a body ``dr`` from its neighbour-list centre, moving at ``v``, is ``skin``
     from it. Straight flight: the root of ``|dr + v t| = skin``. Under gravity a bound that
