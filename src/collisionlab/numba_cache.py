@@ -16,8 +16,17 @@ import sys
 import tempfile
 from collections.abc import Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
-__all__ = ["cache_files", "compile_lock", "forget_stale", "gc_paused", "numba_cache_dir", "use_user_cache"]
+__all__ = [
+    "cache_files",
+    "compile_lock",
+    "compiled_once",
+    "forget_stale",
+    "gc_paused",
+    "numba_cache_dir",
+    "use_user_cache",
+]
 
 
 def numba_cache_dir() -> Path:
@@ -173,3 +182,30 @@ def compile_lock(package: Path, stem: str) -> Iterator[None]:
     finally:
         if handle is not None:
             handle.close()  # releases the lock
+
+
+def compiled_once(dispatcher: Any) -> Any:
+    """``dispatcher`` (a numba function that is called, not inlined, from compiled code), made to
+    compile once whatever its callers pass: numba compiles a function once for each set of
+    argument types it is called with, and types a constant as itself (``Literal[int](0)``) and
+    an ``int32`` array's element as ``int32``, so a helper called with ``0`` at one site, a
+    count at another and an array's element at a third was compiled three times. Here its
+    arguments are typed before it compiles, a constant as its plain type and every integer as
+    ``int64``, and the callers' values are converted to them (``tests/test_numba_cache.py``
+    checks that no kernel is compiled twice). Calls from Python are typed from their values, as
+    before."""
+    typed_by_callers = dispatcher.get_call_template
+
+    def one_set_of_types(args: tuple[Any, ...], kws: dict[str, Any]) -> Any:
+        return typed_by_callers(tuple(_plain(arg) for arg in args), kws)
+
+    dispatcher.get_call_template = one_set_of_types
+    return dispatcher
+
+
+def _plain(argument: Any) -> Any:
+    """An argument's numba type without its constant (``Literal``), integers as ``int64``."""
+    from numba.core import types
+
+    plain = types.unliteral(argument)  # type: ignore[no-untyped-call]
+    return types.int64 if isinstance(plain, types.Integer) else plain

@@ -17,7 +17,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, cast
 
-from ..numba_cache import cache_files, forget_stale, use_user_cache
+from ..numba_cache import cache_files, compiled_once, forget_stale, use_user_cache
 
 use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
 _HERE = Path(__file__).resolve().parent
@@ -62,26 +62,10 @@ def jit_call(function: _F) -> _F:
     where it is small), and allocates nothing: compiled without reference counts, so a call
     passes its arrays as they are (none of numba's ``NRT_incref`` / ``NRT_decref``).
 
-    It is compiled for one set of argument types whatever its callers pass: numba would compile
-    it once for each constant (``Literal[int](0)``) and each integer width (an ``int32`` array's
-    element, an ``int64`` count) it is given, so constants are typed as their plain type and
-    every integer as ``int64`` before it compiles, and the callers' values are converted to them
-    (``tests/test_numba_cache.py`` checks that no kernel is compiled twice)."""
+    It is compiled for one set of argument types whatever its callers pass
+    (:func:`~collisionlab.numba_cache.compiled_once`)."""
     options: dict[str, Any] = {"cache": True, "error_model": "numpy", "_nrt": False}  # (_nrt: not in numba's stubs)
-    dispatcher = numba.njit(**options)(function)
-    typed_by_callers = dispatcher.get_call_template
-
-    def one_set_of_types(args: tuple[Any, ...], kws: dict[str, Any]) -> Any:
-        return typed_by_callers(tuple(_plain(arg) for arg in args), kws)
-
-    dispatcher.get_call_template = one_set_of_types
-    return cast(_F, dispatcher)
-
-
-def _plain(argument: Any) -> Any:
-    """An argument's numba type without its constant (``Literal``), integers as ``int64``."""
-    plain = types.unliteral(argument)  # type: ignore[no-untyped-call]
-    return types.int64 if isinstance(plain, types.Integer) else plain
+    return cast(_F, compiled_once(numba.njit(**options)(function)))
 
 
 @jit_call
