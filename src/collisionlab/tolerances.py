@@ -21,6 +21,7 @@ __all__ = [
     "SLEEP_TIME",
     "SOLVER_MARGIN",
     "SOLVER_TOLERANCE",
+    "START_GAP",
     "TOI_GAP",
     "TOI_TOUCH",
 ]
@@ -92,6 +93,14 @@ PICTURE_MIN_SPAN: float = 1e-6
 #: round differently from the narrow phase's distance; it is widened by this relative amount so
 #: that it never rejects a pair the exact test would accept (it only lets a few more through).
 BROADPHASE_WIDEN: float = 1e-12
+
+#: Dimensionless. A mixture too dense for a lattice starts with its balls spread apart
+#: (:mod:`collisionlab.edmd.spread`) until no two are closer than ``(r_i + r_j)(1 + START_GAP / 2)``,
+#: each pair that was pushed to ``(r_i + r_j)(1 + START_GAP)``: relative, so it holds at any
+#: size. Pushing pairs a little past touching takes a third of the sweeps of pushing them to
+#: touching (a binary of radii 1 and 0.5 at fraction 0.5: 95 sweeps against 341 at 1e-9), and
+#: 0.1% of a diameter is gone in the run's first collisions.
+START_GAP: float = 1e-3
 
 #: Metres. The exact stepper's time of impact (conservative advancement) stops when the two
 #: shapes are this close: far below ``CONTACT_SLOP`` (so an impact is resolved before any push-apart

@@ -33,9 +33,11 @@ from .. import limits
 from ..errors import InvalidInputError
 from ..model import BodyBlock, Box, Scenario, Settings
 from ..particles.scenarios import ball_volume
+from ..tolerances import START_GAP
 from ..validate import finite_number, non_negative, positive, whole_number
 from ..vector import Vector3D
-from .start import box_side, gaussian_velocities, lattice
+from .spread import SPREAD_SWEEPS, spread_apart
+from .start import box_side, gaussian_velocities, lattice, lattice_sites
 from .theory import enskog_collision_rate, enskog_pair_rates, ideal_compressibility, mixture_compressibility
 from .world import EventDrivenWorld, EventSink
 
@@ -261,23 +263,35 @@ class ExactGas:
 
     def _mixture_start(self, radii: NDArray[np.float64]) -> tuple[NDArray[np.float64], float]:
         """Sites for a mixture and the box side: a lattice whose spacing exceeds the largest
-        diameter, in the box that holds all the balls at :attr:`fraction`."""
+        diameter, in the box that holds all the balls at :attr:`fraction`; where that lattice
+        would overlap, its sites in that box spread apart (:mod:`.spread`)."""
         largest = float(radii.max())
         volume = float(sum(ball_volume(float(r), self.dim) for r in radii))
         side = (volume / self.fraction) ** (1.0 / self.dim)
         # the lattice of balls of the largest radius in that box: its packing fraction
         as_largest = self.n * ball_volume(largest, self.dim) / side**self.dim
+        side = box_side(self.n, self.dim, as_largest, largest)
+        periodic = self.boundary == "periodic"
         try:
-            positions = lattice(self.n, self.dim, as_largest, largest, self.boundary == "periodic", self.seed)
+            return lattice(self.n, self.dim, as_largest, largest, periodic, self.seed), side
         except InvalidInputError:
+            pass
+        if periodic and side < 8.0 * largest:
             raise InvalidInputError(
                 "fraction",
-                f"too dense to start this mixture on a lattice: its sites are one largest diameter apart, as for "
-                f"{self.n:,} balls of radius {largest:g} at fraction {as_largest:.3g} (lower --fraction, or more balls "
-                "in a periodic box)",
+                f"too dense to start this mixture: a periodic box must be at least 4 largest diameters wide "
+                f"({side:.3g} for {self.n:,} balls; more balls)",
                 got=self.fraction,
-            ) from None
-        return positions, box_side(self.n, self.dim, as_largest, largest)
+            )
+        positions, _ = lattice_sites(self.n, self.dim, side, largest, periodic, self.seed)
+        if spread_apart(positions, radii, side, periodic, START_GAP, SPREAD_SWEEPS) < 0:
+            raise InvalidInputError(
+                "fraction",
+                f"too dense to start this mixture: spread apart from a lattice for {SPREAD_SWEEPS:,} sweeps, its "
+                "balls still overlap (lower --fraction)",
+                got=self.fraction,
+            )
+        return positions, side
 
     def mixture_velocities(self, masses: NDArray[np.float64]) -> NDArray[np.float64]:
         """Seeded Gaussian velocities of variance ``kT / m`` per ball, the total momentum zero,

@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 from ..errors import InvalidInputError
 from ..particles.scenarios import ball_volume
 
-__all__ = ["box_side", "gaussian_velocities", "lattice"]
+__all__ = ["box_side", "gaussian_velocities", "lattice", "lattice_sites"]
 
 
 def box_side(n: int, dim: int, fraction: float, radius: float) -> float:
@@ -36,6 +36,24 @@ def lattice(n: int, dim: int, fraction: float, radius: float, periodic: bool, se
     Raises :class:`InvalidInputError` (field ``fraction``) when the lattice would overlap.
     """
     side = box_side(n, dim, fraction, radius)
+    coords, spacing = lattice_sites(n, dim, side, radius, periodic, seed)
+    nearest = spacing * math.sqrt(2.0)
+    if nearest <= 2.0 * radius or (periodic and side < 8.0 * radius):
+        raise InvalidInputError(
+            "fraction",
+            f"too dense to start {n:,} balls on a lattice in {'a periodic box' if periodic else 'walls'}"
+            + (" (a periodic box must be at least 4 diameters wide: more balls)" if periodic else ""),
+            got=fraction,
+        )
+    return coords
+
+
+def lattice_sites(
+    n: int, dim: int, side: float, radius: float, periodic: bool, seed: int
+) -> tuple[NDArray[np.float64], float]:
+    """``n`` sites of the lattice (see the module's docstring) in the box ``[0, side]^dim``, for
+    centres of balls of ``radius`` (the room they have within walls), and the grid's spacing.
+    Nothing is checked: the sites may be closer than a diameter."""
     k = 1
     while (2 * k) ** dim // 2 < n:
         k += 1
@@ -48,18 +66,10 @@ def lattice(n: int, dim: int, fraction: float, radius: float, periodic: bool, se
     else:
         spacing = (side - 2.0 * radius) / (m - 1) if m > 1 else side
         coords = np.minimum(radius + sites * spacing, side - radius)  # the last site exactly, not past it
-    nearest = spacing * math.sqrt(2.0)
-    if nearest <= 2.0 * radius or (periodic and side < 8.0 * radius):
-        raise InvalidInputError(
-            "fraction",
-            f"too dense to start {n:,} balls on a lattice in {'a periodic box' if periodic else 'walls'}"
-            + (" (a periodic box must be at least 4 diameters wide: more balls)" if periodic else ""),
-            got=fraction,
-        )
     if len(coords) > n:
         chosen = np.sort(np.random.default_rng(seed).choice(len(coords), size=n, replace=False))
         coords = coords[chosen]
-    return np.ascontiguousarray(coords, dtype=np.float64)
+    return np.ascontiguousarray(coords, dtype=np.float64), float(spacing)
 
 
 def gaussian_velocities(n: int, dim: int, kt: float, mass: float, seed: int) -> NDArray[np.float64]:

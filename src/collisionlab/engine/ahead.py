@@ -41,12 +41,13 @@ def compiled_choice(kernels: str) -> bool | None:
 
 
 def _event_driven(notify: Callable[[str], None] | None) -> None:
-    """The event loop (one kernel for one kind of ball and for mixtures) and ``--observe``'s
-    pair count, on a tiny periodic gas: the arrays the real runs pass them, of the same types."""
+    """The event loop (one kernel for one kind of ball and for mixtures), ``--observe``'s pair
+    count and a dense mixture's start, on tiny gases: the arrays the real runs pass them, of the
+    same types."""
     import numpy as np
 
     from ..edmd.compile import COMPILE_TAKES, is_cached
-    from ..edmd.observables import ExactGas
+    from ..edmd.observables import ExactGas, Species
     from ..edmd.structure import pair_histogram
 
     if notify is not None and not is_cached():
@@ -55,6 +56,8 @@ def _event_driven(notify: Callable[[str], None] | None) -> None:
     world.run(0.1)
     pos, _ = world.state()
     pair_histogram(pos, np.zeros(len(pos), dtype=np.int64), 1, world.sides, 0.1, np.zeros((1, 4), dtype=np.int64))
+    dense_binary = (Species("a", 0.5, 1.0), Species("b", 0.5, 0.5))  # too dense for a lattice: spread apart
+    ExactGas(n=20, dim=2, fraction=0.6, time=0.1, boundary="walls", species=dense_binary).world()
 
 
 def _particles() -> None:
