@@ -358,7 +358,7 @@ def _check_arrays(arrays: dict[str, NDArray[Any]], gas: ExactGas, info: dict[str
         "IX": (n, L.NI),
         "heap": (n,),
         "order": (n,),
-        "P": (L.NP,),
+        "P": (L.NP + (n if arrays["P"].shape[0] > L.NP else 0),),
         "Q": (L.NQ,),
         "G": (L.NG,),
         "K": (L.NK,),

@@ -78,6 +78,7 @@ __all__ = [
     "P_INV_H",
     "P_L",
     "P_MIXED",
+    "P_RADII",
     "P_RADIUS",
     "P_REACH",
     "P_SKIN",
@@ -104,8 +105,10 @@ __all__ = [
 # row: 96-byte rows put every other row's across two, and with a million bodies every
 # neighbour's row is a cache miss (1M, T = 4: 257 k collisions/s against 214 k/s with 96-byte
 # rows); the counters were in IX, one more miss for the partner's (1M: 216 k/s against 198 k/s).
-# A mixture's radius and mass fill the second line: a prediction reads a neighbour's radius only
-# when the radii differ (``P_MIXED``), so one kind of ball reads what it read before.
+# A mixture's radius and mass fill the second line; a prediction reads a neighbour's radius from
+# ``P[P_RADII + j]`` (8 bytes a body, at hand), only when the radii differ (``P_MIXED``): from
+# the row's second line it cost every neighbour one more cache line (3D binary, N 4,000: 1.31x
+# the time per collision of one kind, against 1.18x, bench/LOG.md).
 X = 0
 V = 3
 T = 6
@@ -152,6 +155,10 @@ P_BLOCK = 10  # calendar: time span of one block
 P_INV_H = 11  # inverse cell sides, 3 values
 P_REACH = 14  # P_CUT and a margin for the float32 centres of the cells (see cells.py)
 NP = 15
+#: A mixture's P goes on with each body's radius, in storage order: ``P[P_RADII + j]``, what a
+#: prediction reads for each neighbour (a small array at hand, where ``F[j, RADIUS]`` is on the
+#: second cache line of the neighbour's row).
+P_RADII = NP
 
 # Q: int parameters
 Q_DIM = 0

@@ -76,6 +76,7 @@ from .layout import (
     P_G,
     P_L,
     P_MIXED,
+    P_RADII,
     P_SKIN,
     P_TC,
     PARTNER,
@@ -163,8 +164,8 @@ def _soonest_pair(
             dy = nearest_image(dy, P[P_L + 1])
             if dim == 3:
                 dz = nearest_image(dz, P[P_L + 2])
-        if mixed:  # each pair its own contact distance (the radius is on the row's second line)
-            contact = ri + F[j, RADIUS]
+        if mixed:  # each pair its own contact distance (the radii follow the parameters in P)
+            contact = ri + P[P_RADII + j]
             t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], contact * contact)
         else:
             t = contact_time(dx, dy, dz, vx - F[j, V], dvy, vz - F[j, V + 2], sigma2)
@@ -493,16 +494,14 @@ def _fetch_rows(F: Any, IX: Any, NB: Any, i: int) -> None:
 
 
 @jit_inline
-def _fetch_neighbours(F: Any, IX: Any, NB: Any, i: int, mixed: bool) -> None:
+def _fetch_neighbours(F: Any, IX: Any, NB: Any, i: int) -> None:
     """Prefetch the position, velocity and time of each of ``i``'s neighbours (what predicting
-    ``i``'s next collision reads), and in a mixture their radii: ``i``'s list must be at hand
-    already."""
+    ``i``'s next collision reads; a mixture's radii are in ``P``, at hand): ``i``'s list must be
+    at hand already."""
     for m in range(IX[i, NNB]):
         j = NB[i, m]
         prefetch(F, j, X)
         prefetch(F, j, T)
-        if mixed:
-            prefetch(F, j, RADIUS)
 
 
 @jit_inline
@@ -514,11 +513,10 @@ def _fetch_ahead(heap: Any, F: Any, IX: Any, NB: Any, P: Any, Q: Any, K: Any, CI
     its partner, whose lists were fetched one event earlier), and the lists and the partner's
     rows of the next event (the heap's first, unless this event schedules an earlier one), or
     the cells it will look through if it rebuilds its list."""
-    mixed = P[P_MIXED] != 0.0
-    _fetch_neighbours(F, IX, NB, i, mixed)
+    _fetch_neighbours(F, IX, NB, i)
     kind = IX[i, KIND]
     if kind == KIND_PAIR:
-        _fetch_neighbours(F, IX, NB, IX[i, PARTNER], mixed)
+        _fetch_neighbours(F, IX, NB, IX[i, PARTNER])
     elif kind == KIND_NLIST:
         for m in range(IX[i, NNB]):
             j = NB[i, m]

@@ -244,7 +244,8 @@ class EventDrivenWorld:
             self.SE[:, 0] = np.bincount(kinds, weights=energy, minlength=count)
         del pos, vel  # (a wrapped copy of) the inputs, now in F: not held through the start
         self.IX = aligned_zeros((n, L.NI), np.int32)
-        self.P = np.zeros(L.NP)
+        # a mixture: each body's radius after the parameters, in storage order (layout.P_RADII)
+        self.P = np.zeros(L.NP + (n if self.mixed else 0))
         self.Q = np.zeros(L.NQ, dtype=np.int64)
         self.G = np.zeros(L.NG)
         self.K = np.zeros(L.NK, dtype=np.int64)
@@ -252,6 +253,8 @@ class EventDrivenWorld:
         self.P[L.P_L : L.P_L + dim] = box
         self.P[L.P_RADIUS] = self.radius
         self.P[L.P_MIXED] = 1.0 if self.mixed else 0.0
+        if self.mixed:
+            self.P[L.P_RADII :] = self.F[:, L.RADIUS]
         self.P[L.P_E] = self.restitution
         self.P[L.P_TC] = self.tc
         self.P[L.P_G] = self.gravity
