@@ -10,8 +10,8 @@ from __future__ import annotations
 
 __all__: list[str] = []  # helpers of the steppers' loops: nothing here is public
 
-#: Helpers the compiled form inlines into their callers (:mod:`.compiled`): they take arrays, and a
-#: call that passes several numba arrays (each a struct of seven fields) costs more than the work inside.
+#: Helpers the compiled form inlines into their callers (:mod:`.compiled`): one conversion each,
+#: less work than a call.
 INLINE = ("_int", "_bool")
 
 
