@@ -67,7 +67,17 @@ COLLISION_LAYER = (
     "collisionlab.engine.contact_solver",
     "collisionlab.engine.contact_push_apart",
     "collisionlab.engine.contact_islands",
-    "collisionlab.engine.step_kernels",
+    "collisionlab.engine.step_kernels",  # the Forward Euler loop, and the files of its phases:
+    "collisionlab.engine.non_literal",
+    "collisionlab.engine.pair_separation",
+    "collisionlab.engine.broad_phase_grid",
+    "collisionlab.engine.broad_phase_pairs",
+    "collisionlab.engine.contact_order",
+    "collisionlab.engine.touching_memory",
+    "collisionlab.engine.event_rows",
+    "collisionlab.engine.euler_impulses",
+    "collisionlab.engine.euler_push_apart",
+    "collisionlab.engine.euler_clamps",
     "collisionlab.engine.event_heap",
 )
 

@@ -1,4 +1,4 @@
-"""The order of the contacts (step_kernels): deepest first, ties by geometry, then by number. A
+"""The order of the contacts (contact_order): deepest first, ties by geometry, then by number. A
 subset of them is ordered as the order of all of them leaves it (many ties, as resting contacts
 make, short runs and long ones); a sweep may take the contacts alone on their bodies anywhere."""
 
@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from collisionlab.engine import step_kernels
+from collisionlab.engine import contact_order, euler_push_apart, pair_separation
 
 
 def _contacts(seed: int, on_grid: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -28,14 +28,14 @@ def _contacts(seed: int, on_grid: bool) -> tuple[np.ndarray, np.ndarray, np.ndar
 def test_a_subset_is_ordered_as_the_whole_order_leaves_it(seed: int, on_grid: bool) -> None:
     pos, ca, cb, cd = _contacts(seed, on_grid)
     count = cd.shape[0]
-    whole = step_kernels._order_contacts(pos, ca, cb, cd, count)
+    whole = contact_order._order_contacts(pos, ca, cb, cd, count)
     rng = np.random.default_rng(1000 + seed)
     idx = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))
     wanted = whole[np.isin(whole, idx)]
-    got = step_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0])
+    got = contact_order._order_subset(pos, ca, cb, cd, idx, idx.shape[0])
     assert got.tolist() == wanted.tolist()
     rng.shuffle(idx)  # given in any order: the same
-    assert step_kernels._order_subset(pos, ca, cb, cd, idx, idx.shape[0]).tolist() == wanted.tolist()
+    assert contact_order._order_subset(pos, ca, cb, cd, idx, idx.shape[0]).tolist() == wanted.tolist()
 
 
 def _pile(seed: int) -> tuple[np.ndarray, ...]:
@@ -75,17 +75,18 @@ def test_a_contact_alone_on_its_bodies_may_come_anywhere_in_a_push_apart_sweep(s
     # the bit, as the Forward Euler stepper's order of all of them gives.
     pos, ext, ima, ca, cb, cd = _pile(seed)
     count = cd.shape[0]
-    kind = np.full(pos.shape[0], step_kernels.BALL_3D, np.int64)
-    floor = (np.array([step_kernels.STATIC_WALL]), np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]))
-    whole = step_kernels._order_contacts(pos, ca, cb, cd, count)
-    coupled = step_kernels._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
+    kind = np.full(pos.shape[0], pair_separation.BALL_3D, np.int64)
+    floor = (np.array([pair_separation.STATIC_WALL]), np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]))
+    whole = contact_order._order_contacts(pos, ca, cb, cd, count)
+    coupled = contact_order._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
     assert sorted(coupled.tolist()) == list(range(count))
     ends, ledgers = [], []
     for order in (whole, coupled):
         moved, ledger = pos.copy(), np.zeros(8)
         for _ in range(50):
-            if not step_kernels._push_apart(kind, moved, ext, ima, *floor, ca, cb, cd, order, np.array([0, -9.81, 0]),
-                                            1e-9, 1e-3, ledger):  # fmt: skip
+            gravity = np.array([0, -9.81, 0])
+            if not euler_push_apart._push_apart(kind, moved, ext, ima, *floor, ca, cb, cd, order, gravity,
+                                                1e-9, 1e-3, ledger):  # fmt: skip
                 break
         ends.append(moved)
         ledgers.append(ledger)
@@ -103,15 +104,15 @@ def test_the_events_of_a_pass_are_put_in_the_order_of_all_the_contacts(seed: int
     else:  # most sharing them, many ties
         pos, ca, cb, cd = _contacts(seed, seed % 4 == 0)
     count = cd.shape[0]
-    order = step_kernels._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
+    order = contact_order._order_coupled(pos, ca, cb, cd, np.arange(count), count, np.zeros(len(pos), np.int64))
     rng = np.random.default_rng(2000 + seed)
     resolved = np.sort(rng.choice(count, int(rng.integers(1, count + 1)), replace=False))  # positions in order
     events = np.zeros((len(resolved) + 3, 4))
     events[:3, 0] = -1.0  # rows of an earlier pass stay
     events[3:, 0] = order[resolved]  # each row names its contact
     events[3:, 1] = np.arange(len(resolved))
-    step_kernels._events_in_order(events, 3, len(events), resolved, order, pos, ca, cb, cd)
-    whole = step_kernels._order_contacts(pos, ca, cb, cd, count)
+    contact_order._events_in_order(events, 3, len(events), resolved, order, pos, ca, cb, cd)
+    whole = contact_order._order_contacts(pos, ca, cb, cd, count)
     assert events[3:, 0].astype(int).tolist() == [c for c in whole if c in set(order[resolved])]
     assert events[:3, 0].tolist() == [-1.0] * 3
     assert sorted(events[3:, 1].tolist()) == list(range(len(resolved)))  # whole rows moved

@@ -22,6 +22,18 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
 
     monkeypatch.setattr(compiled, "forget_stale", spy)
     compiled._forget_stale()
+    euler = [
+        "non_literal",
+        "pair_separation",
+        "broad_phase_grid",
+        "broad_phase_pairs",
+        "contact_order",
+        "touching_memory",
+        "event_rows",
+        "euler_impulses",
+        "euler_push_apart",
+        "euler_clamps",
+    ]
     exact = [
         "exact_flight",
         "exact_time_of_impact",
@@ -49,13 +61,19 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
         "step_kernels",
         "exact_kernels",
         "contact_kernels",
+        *euler,
         *exact,
         *contact,
     }
     assert "geometry_kernels.py" in dropped["geometry_kernels"]
     assert {"step_kernels.py", "geometry_kernels.py"} <= set(dropped["step_kernels"])
+    # The Forward Euler loop's machine code holds every file of its phases; the other steppers
+    # call its lower files (the separations, the events), never the loop itself.
+    assert {f"{stem}.py" for stem in euler} <= set(dropped["step_kernels"])
     for stepper in ("exact_kernels", "contact_kernels"):
-        assert {f"{stepper}.py", "step_kernels.py", "geometry_kernels.py", "event_heap.py"} <= set(dropped[stepper])
+        wanted = {f"{stepper}.py", "pair_separation.py", "event_rows.py", "geometry_kernels.py", "event_heap.py"}
+        assert wanted <= set(dropped[stepper])
+        assert "step_kernels.py" not in dropped[stepper]
     # The loop's machine code holds its phases' files, and the files they call (the impacts
     # call the geometry kernels and the event heap; the loop itself imports neither).
     assert {f"{stem}.py" for stem in exact} <= set(dropped["exact_kernels"])
@@ -63,7 +81,7 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
     # The same for the contact stepper: its loop holds every file of its phases; the quadratic
     # program is held by the solve and push-apart, and calls no other file.
     assert {f"{stem}.py" for stem in contact} <= set(dropped["contact_kernels"])
-    assert {"contact_qp.py", "contact_memory.py", "step_kernels.py"} <= set(dropped["contact_solver"])
+    assert {"contact_qp.py", "contact_memory.py", "non_literal.py"} <= set(dropped["contact_solver"])
     assert set(dropped["contact_qp"]) == {"contact_qp.py", "tolerances.py", "compiled.py"}
     assert "contact_solver.py" not in dropped["contact_islands"]  # not dropped for another phase's edit
     assert "exact_impacts.py" not in dropped["exact_rest"]  # a file is not dropped for its callers' edits

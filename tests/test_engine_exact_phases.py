@@ -13,8 +13,15 @@ import numpy as np
 import pytest
 
 from collisionlab.engine import (
+    broad_phase_grid,
+    broad_phase_pairs,
     compiled,
+    contact_order,
+    euler_clamps,
+    euler_impulses,
+    euler_push_apart,
     event_heap,
+    event_rows,
     exact_flight,
     exact_impacts,
     exact_impulses,
@@ -25,7 +32,10 @@ from collisionlab.engine import (
     exact_sweeps,
     exact_time_of_impact,
     geometry_kernels,
+    non_literal,
+    pair_separation,
     step_kernels,
+    touching_memory,
 )
 from collisionlab.engine.params import WorldParams
 from collisionlab.engine.world import World
@@ -81,6 +91,22 @@ normal = [0, 0, -1]
 """
 
 
+#: The Forward Euler stepper's files: the loop and one file per concept it calls (the exact stepper
+#: calls most of them too).
+EULER_FILES = (
+    non_literal,
+    pair_separation,
+    broad_phase_grid,
+    broad_phase_pairs,
+    contact_order,
+    touching_memory,
+    event_rows,
+    euler_impulses,
+    euler_push_apart,
+    euler_clamps,
+    step_kernels,
+)
+
 #: The exact stepper's files: the loop and one file per concept it calls.
 EXACT_FILES = (
     exact_flight,
@@ -95,7 +121,7 @@ EXACT_FILES = (
 )
 
 
-@pytest.mark.parametrize("module", [geometry_kernels, step_kernels, *EXACT_FILES])
+@pytest.mark.parametrize("module", [geometry_kernels, *EULER_FILES, *EXACT_FILES])
 def test_every_helper_named_for_the_compiler_is_a_function_of_its_module(module: types.ModuleType) -> None:
     inline = set(getattr(module, "INLINE", ()))
     no_refcount = set(getattr(module, "NO_REFCOUNT", ()))
@@ -165,12 +191,12 @@ def test_a_heap_with_room_is_left_as_it_is() -> None:
 
 
 def test_the_events_buffer_grows_only_when_short_of_room_and_keeps_its_rows() -> None:
-    events = np.arange(10.0 * step_kernels.EVENT_COLUMNS).reshape(10, step_kernels.EVENT_COLUMNS)
-    assert step_kernels._events_with_room(events, 6, 4) is events  # rows 6-9 are free
-    grown = step_kernels._events_with_room(events, 6, 5)
-    assert grown.shape == (36, step_kernels.EVENT_COLUMNS)  # 2 * 10 + 16, at least 6 + 5
+    events = np.arange(10.0 * event_rows.EVENT_COLUMNS).reshape(10, event_rows.EVENT_COLUMNS)
+    assert event_rows._events_with_room(events, 6, 4) is events  # rows 6-9 are free
+    grown = event_rows._events_with_room(events, 6, 5)
+    assert grown.shape == (36, event_rows.EVENT_COLUMNS)  # 2 * 10 + 16, at least 6 + 5
     assert np.array_equal(grown[:10], events) and not grown[10:].any()
-    assert step_kernels._events_with_room(events, 6, 100).shape[0] == 106
+    assert event_rows._events_with_room(events, 6, 100).shape[0] == 106
 
 
 def _run(text: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -198,7 +224,7 @@ def test_a_run_is_the_same_when_the_events_buffer_has_only_just_room(monkeypatch
         return grown
 
     monkeypatch.setattr(exact_impacts, "_impacts", counted)
-    monkeypatch.setattr(step_kernels, "_events_with_room", just_room)
+    monkeypatch.setattr(event_rows, "_events_with_room", just_room)
     tight = _run(HEAP_OF_BALLS)
     assert returns.count(exact_impacts.ROOM) > 10  # the impacts stopped for room, and went on
     assert roomy[2].shape[0] > 100  # events enough to matter

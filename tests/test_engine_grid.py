@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from collisionlab.engine import compiled, step_kernels
+from collisionlab.engine import broad_phase_grid, compiled, pair_separation, step_kernels
 from collisionlab.engine.params import WorldParams
 from collisionlab.engine.stepper import max_cells, stencil
 from collisionlab.scenario_file import parse_scenario
@@ -25,11 +25,11 @@ def _scene(dims: int, spread: float, seed: int) -> tuple[Any, ...]:
     """100 bodies: balls and boxes of 0.05-0.2, a few boxes up to 2.5 wide, some touching."""
     rng = np.random.default_rng(seed)
     n = 100
-    kind = np.where(rng.random(n) < 0.7, step_kernels.BALL_2D, step_kernels.BOX_2D).astype(np.int64)
+    kind = np.where(rng.random(n) < 0.7, pair_separation.BALL_2D, pair_separation.BOX_2D).astype(np.int64)
     kind += 1 if dims == 3 else 0  # BALL_3D, BOX_3D
     ext = np.zeros((n, 3))
     ext[:, :dims] = rng.uniform(0.05, 0.2, (n, dims))
-    balls = kind <= step_kernels.BALL_3D
+    balls = kind <= pair_separation.BALL_3D
     ext[balls, :] = ext[balls, :1]
     large = rng.choice(np.flatnonzero(~balls), 3, replace=False)
     ext[large, :dims] = rng.uniform(0.5, 1.25, (3, dims))
@@ -40,7 +40,7 @@ def _scene(dims: int, spread: float, seed: int) -> tuple[Any, ...]:
     pos[1] = pos[0]  # coincident
     pos[3, :dims] = pos[2, :dims] + (ext[2, 0] + ext[3, 0]) * np.eye(dims)[0]  # touching along x
     statics = (
-        np.array([step_kernels.STATIC_BOX], np.int64),
+        np.array([pair_separation.STATIC_BOX], np.int64),
         np.array([[-1.0, -1.0, -1.0]]),
         np.array([[0.5, 0.0, 0.5]]),
     )
@@ -53,11 +53,11 @@ def _brute_force(kind: Any, pos: Any, ext: Any, statics: tuple[Any, ...]) -> dic
     n = pos.shape[0]
     for i in range(n):
         for j in range(i + 1, n):
-            sep = step_kernels._body_separation(kind, pos, ext, i, j)
+            sep = pair_separation._body_separation(kind, pos, ext, i, j)
             if sep[0] <= MARGIN:
                 found[(i, j)] = -sep[0]
         for s in range(s_kind.shape[0]):
-            sep = step_kernels._static_separation(s_kind, s_a, s_b, s, kind, pos, ext, i)
+            sep = pair_separation._static_separation(s_kind, s_a, s_b, s, kind, pos, ext, i)
             if sep[0] <= MARGIN:
                 found[(-1 - s, i)] = -sep[0]
     return found
@@ -129,7 +129,7 @@ def test_a_run_with_a_few_large_bodies_is_the_same_compiled_and_permuted(region:
 def test_a_crowded_hashed_grid_still_finds_every_pair(monkeypatch: pytest.MonkeyPatch) -> None:
     # One bucket per body (the Python form reads the constant when called): rows of cells share
     # buckets with many other cells, and many rows wrap around the end of the table.
-    monkeypatch.setattr(step_kernels, "BUCKETS_PER_BODY", 1)
+    monkeypatch.setattr(broad_phase_grid, "BUCKETS_PER_BODY", 1)
     for dims in (2, 3):
         for seed in range(3):
             kind, pos, ext, ids, statics = _scene(dims, 30.0, seed)

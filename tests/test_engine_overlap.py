@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from collisionlab.engine import pair_separation as ps
 from collisionlab.engine import step_kernels as sk
 from collisionlab.engine.overlap import find_overlaps
 from collisionlab.engine.params import WorldParams
@@ -40,13 +41,13 @@ def test_the_overlaps_found_are_the_narrow_phases(seed: int) -> None:
     kind = (rng.integers(0, 2, n) * 2 + dims - 2).astype(np.int64)
     pos = np.zeros((n, 3))
     pos[:, :dims] = rng.uniform(0.0, 6.0, (n, dims))
-    balls = kind <= sk.BALL_3D
+    balls = kind <= ps.BALL_3D
     ext = np.zeros((n, 3))
     ext[:, :dims] = rng.uniform(0.05, 0.8, (n, dims))  # a box's half sizes (z = 0 in 2D)
     ext[balls] = rng.uniform(0.05, 0.8, (int(balls.sum()), 1))  # a ball's radius on every axis
     ext[: int(rng.integers(0, 4))] *= 6.0
     statics = StaticArrays(
-        np.array([sk.STATIC_BOUNDARY, sk.STATIC_BOX, sk.STATIC_WALL], np.int64),
+        np.array([ps.STATIC_BOUNDARY, ps.STATIC_BOX, ps.STATIC_WALL], np.int64),
         np.array([[0.0, 0.3, 0.0], [2.0, 2.0, -9.0], [6.0, 0.0, 0.0]]),
         np.array([[0.0, 1.0, 0.0], [3.0, 2.5, 9.0], [-1.0, 0.0, 0.0]]),
         np.full(3, np.nan),

@@ -161,7 +161,7 @@ def test_every_kernel_is_compiled_for_one_set_of_argument_types() -> None:
     """numba compiles a function once for each set of argument types it is called with, and a
     variable that starts at a constant (``k = 0``) is first typed as that constant
     (``Literal[int](0)``): a kernel it was passed to was compiled twice, the exact stepper's
-    ``_impacts`` for two minutes more (step_kernels._int). The session's fixture has compiled or
+    ``_impacts`` for two minutes more (non_literal._int). The session's fixture has compiled or
     loaded every kernel (conftest.py), so their index files are there to read, in the cache
     folder numba was given (``__pycache__`` may hold files of runs without one)."""
     import collisionlab

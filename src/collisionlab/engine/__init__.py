@@ -5,8 +5,12 @@ Euler) or exactly.
   scalar kernels, written once: the scalar API calls them as Python, the steppers compiled.
 * :mod:`.params` - :class:`WorldParams`, every tunable of a world in one typed object.
 * :mod:`.state` - the structure of arrays a world steps, built from a scenario.
-* :mod:`.step_kernels` - the Forward Euler stepper over arrays (grid broad phase, contacts in
-  a geometric order, sequential impulses, push-apart, events).
+* :mod:`.step_kernels` - the Forward Euler stepper over arrays: its loop; one file per phase it
+  calls, :mod:`.broad_phase_grid` (the grid), :mod:`.broad_phase_pairs` (the candidate pairs),
+  :mod:`.contact_order` (contacts in a geometric order), :mod:`.touching_memory`,
+  :mod:`.euler_impulses` (sequential impulses), :mod:`.euler_push_apart` and
+  :mod:`.euler_clamps`; below them, for every stepper, :mod:`.pair_separation` (the kinds and a
+  pair's separation), :mod:`.event_rows` (the events) and :mod:`.non_literal`.
 * :mod:`.compiled` - the same kernels compiled by numba, for large worlds.
 * :mod:`.ahead` - the compiled kernels loaded (or compiled) ahead of a run, timed apart from it,
   and ``--kernels``' choices.

@@ -69,16 +69,38 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
 _IMPORTS: dict[str, tuple[str, ...]] = {
     "geometry_kernels": (),
     "event_heap": (),
-    "step_kernels": ("geometry_kernels",),
+    # The Forward Euler stepper, one concept per file (step_kernels.py, the loop, lists them); the
+    # other steppers call its lower files too.
+    "non_literal": (),
+    "pair_separation": ("geometry_kernels",),
+    "broad_phase_grid": (),
+    "broad_phase_pairs": ("pair_separation", "broad_phase_grid"),
+    "contact_order": ("non_literal",),
+    "touching_memory": (),
+    "event_rows": ("non_literal",),
+    "euler_impulses": ("geometry_kernels", "non_literal", "pair_separation", "event_rows"),
+    "euler_push_apart": ("pair_separation",),
+    "euler_clamps": ("pair_separation", "broad_phase_pairs"),
+    "step_kernels": (
+        "non_literal",
+        "broad_phase_grid",
+        "broad_phase_pairs",
+        "contact_order",
+        "touching_memory",
+        "euler_impulses",
+        "euler_push_apart",
+        "euler_clamps",
+    ),
     # The exact stepper, one concept per file (exact_kernels.py, the loop, lists them).
     "exact_flight": (),
     "exact_sweeps": (),
     "exact_impulses": ("geometry_kernels",),
-    "exact_time_of_impact": ("geometry_kernels", "step_kernels", "exact_flight"),
-    "exact_rest": ("geometry_kernels", "step_kernels", "exact_impulses"),
+    "exact_time_of_impact": ("geometry_kernels", "pair_separation", "exact_flight"),
+    "exact_rest": ("geometry_kernels", "pair_separation", "exact_impulses"),
     "exact_settle": (
         "geometry_kernels",
-        "step_kernels",
+        "pair_separation",
+        "event_rows",
         "event_heap",
         "exact_flight",
         "exact_time_of_impact",
@@ -86,7 +108,8 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
         "exact_rest",
     ),
     "exact_impacts": (
-        "step_kernels",
+        "pair_separation",
+        "event_rows",
         "event_heap",
         "exact_flight",
         "exact_time_of_impact",
@@ -95,9 +118,17 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
         "exact_sweeps",
         "exact_settle",
     ),
-    "exact_step_end": ("step_kernels", "exact_sweeps"),
+    "exact_step_end": ("pair_separation", "touching_memory", "exact_sweeps"),
     "exact_kernels": (
-        "step_kernels",
+        "non_literal",
+        "pair_separation",
+        "broad_phase_grid",
+        "broad_phase_pairs",
+        "contact_order",
+        "touching_memory",
+        "event_rows",
+        "euler_push_apart",
+        "euler_clamps",
         "exact_flight",
         "exact_rest",
         "exact_sweeps",
@@ -107,23 +138,25 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
     ),
     # The contact stepper, one concept per file (contact_kernels.py, the loop, lists them).
     "contact_flight": (),
-    "contact_memory": ("step_kernels",),
+    "contact_memory": ("non_literal",),
     "contact_qp": (),
-    "contact_time_of_impact": ("geometry_kernels", "step_kernels", "contact_flight"),
-    "contact_candidates": ("step_kernels", "contact_time_of_impact"),
-    "contact_islands": ("step_kernels", "contact_time_of_impact", "contact_candidates"),
+    "contact_time_of_impact": ("geometry_kernels", "pair_separation", "contact_flight"),
+    "contact_candidates": ("non_literal", "contact_time_of_impact"),
+    "contact_islands": ("non_literal", "contact_time_of_impact", "contact_candidates"),
     "contact_impacts": (
         "geometry_kernels",
-        "step_kernels",
+        "non_literal",
+        "pair_separation",
+        "event_rows",
         "event_heap",
         "contact_flight",
         "contact_time_of_impact",
         "contact_islands",
     ),
-    "contact_solver": ("step_kernels", "contact_time_of_impact", "contact_memory", "contact_qp"),
-    "contact_push_apart": ("step_kernels", "contact_time_of_impact", "contact_qp"),
+    "contact_solver": ("non_literal", "contact_time_of_impact", "contact_memory", "contact_qp"),
+    "contact_push_apart": ("non_literal", "contact_time_of_impact", "contact_qp"),
     "contact_kernels": (
-        "step_kernels",
+        "non_literal",
         "contact_candidates",
         "contact_impacts",
         "contact_islands",
@@ -137,6 +170,16 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
 _GLOBAL_NAMES = {
     "geometry_kernels": "_GEOMETRY",
     "step_kernels": "_STEP",
+    "non_literal": "_NON_LITERAL",
+    "pair_separation": "_PAIR_SEPARATION",
+    "broad_phase_grid": "_BROAD_PHASE_GRID",
+    "broad_phase_pairs": "_BROAD_PHASE_PAIRS",
+    "contact_order": "_CONTACT_ORDER",
+    "touching_memory": "_TOUCHING_MEMORY",
+    "event_rows": "_EVENT_ROWS",
+    "euler_impulses": "_EULER_IMPULSES",
+    "euler_push_apart": "_EULER_PUSH_APART",
+    "euler_clamps": "_EULER_CLAMPS",
     "event_heap": "_HEAP",
     "exact_flight": "_EXACT_FLIGHT",
     "exact_sweeps": "_EXACT_SWEEPS",
@@ -163,7 +206,7 @@ def _calls(stem: str) -> list[str]:
     imports, and theirs, in the order first met.
 
     >>> _calls("exact_rest")
-    ['geometry_kernels', 'step_kernels', 'exact_impulses']
+    ['geometry_kernels', 'pair_separation', 'exact_impulses']
     """
     found: list[str] = []
     for callee in _IMPORTS[stem]:

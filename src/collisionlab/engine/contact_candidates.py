@@ -6,7 +6,7 @@ insertion sort is nearly free; Ericson 7.2.1), each body's pairs (a counting sor
 Owns ``HEAP_ROOM``, the listing (:func:`_list_pairs`, and :func:`_relist`, which sizes the pairs'
 rows and the calendar to fit), each body's pairs (:func:`_adjacency`), the speed bound
 (:func:`_speed_bound`) and the arrays grown when full (:func:`_grown_int`, :func:`_grown_float`,
-which the islands' support rows use too). It imports :mod:`.step_kernels` and
+which the islands' support rows use too). It imports :mod:`.non_literal` and
 :mod:`.contact_time_of_impact` (a pair's separation); it must not import the impacts, the solve,
 push-apart, the islands or the loop.
 """
@@ -18,12 +18,12 @@ from typing import Any
 
 import numpy as np
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
+    nl: Any = globals()["_NON_LITERAL"]
     ct: Any = globals()["_CONTACT_TIME_OF_IMPACT"]
 else:
     from . import contact_time_of_impact as ct
-    from . import step_kernels as sk
+    from . import non_literal as nl
 
 #: The calendar has room for this many entries per candidate pair (and 2 more): a full one is
 #: compacted (:func:`~collisionlab.engine.event_heap.heap_compact`) to at most the current ones.
@@ -48,7 +48,7 @@ def _list_pairs(
             order[r + 1] = order[r]
             r -= 1
         order[r + 1] = i
-    count = sk._int(0)
+    count = nl._int(0)
     for q in range(n):
         i = order[q]
         hi = pos[i, 0] + ext[i, 0] + reach

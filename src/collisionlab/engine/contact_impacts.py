@@ -8,8 +8,8 @@ again from there.
 
 Owns ``MAX_IMPACTS_PER_STEP``, ``MAX_BODY_IMPACTS``, what a flight returns with (``DONE``,
 ``RESTART``), a pair's prediction (:func:`_predict`) and the flight (:func:`_flight`). It imports
-:mod:`.geometry_kernels`, :mod:`.step_kernels` (the pair's restitution, events),
-:mod:`.event_heap`, :mod:`.contact_flight`, :mod:`.contact_time_of_impact` and
+:mod:`.geometry_kernels`, :mod:`.non_literal`, :mod:`.pair_separation` (the pair's restitution),
+:mod:`.event_rows`, :mod:`.event_heap`, :mod:`.contact_flight`, :mod:`.contact_time_of_impact` and
 :mod:`.contact_islands` (waking); it must not import the candidates, the solve, push-apart or the
 loop.
 """
@@ -22,7 +22,9 @@ import numpy as np
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
-    sk: Any = globals()["_STEP"]
+    evr: Any = globals()["_EVENT_ROWS"]
+    nl: Any = globals()["_NON_LITERAL"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
     fl: Any = globals()["_CONTACT_FLIGHT"]
     ct: Any = globals()["_CONTACT_TIME_OF_IMPACT"]
@@ -32,8 +34,10 @@ else:
     from . import contact_islands as il
     from . import contact_time_of_impact as ct
     from . import event_heap as eh
+    from . import event_rows as evr
     from . import geometry_kernels as gk
-    from . import step_kernels as sk
+    from . import non_literal as nl
+    from . import pair_separation as ps
 
 #: The most impacts resolved within one flight; past it the flight ends without the rest (the
 #: world warns; ``status[0]`` counts such flights).
@@ -76,7 +80,7 @@ def _flight(
     predictions are dropped by version). Returns ``(code, t, events)``: ``DONE`` with every body at
     ``t_end``, or ``RESTART`` at ``t`` (every body brought there) when a kick outran ``u`` or woke
     an island. ``hits`` counts each body's impacts in this flight."""
-    size = sk._int(0)
+    size = nl._int(0)
     for p in range(count):
         size = _predict(
             kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, pairs, ver, p, t, t_end, rest_speed, ht, hk, hv, size
@@ -118,7 +122,7 @@ def _flight(
         inv_sum = ima_a + ima[b]
         if inv_sum == 0.0:
             continue
-        e = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default) if most < MAX_BODY_IMPACTS else 0.0
+        e = ps._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default) if most < MAX_BODY_IMPACTS else 0.0
         j = gk.impulse_magnitude(vn, inv_sum, e)
         kinetic = 0.0
         for k in range(3):
@@ -142,7 +146,7 @@ def _flight(
         if record:
             id_a = ids[a] if a >= 0 else a
             when = (step - 1) * dt + t
-            events = sk._write_event(events, event_count[0], sk.EVENT_IMPACT, step, when, id_a, ids[b], sep, vn, j, e,
+            events = evr._write_event(events, event_count[0], evr.EVENT_IMPACT, step, when, id_a, ids[b], sep, vn, j, e,
                                      before, vel, a, b)  # fmt: skip
             event_count[0] += 1
         outran = False

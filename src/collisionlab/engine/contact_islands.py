@@ -7,7 +7,7 @@ normal. An impact on a sleeping body, or a contact of an awake body with it, wak
 Owns ``SPAN_FRACTION``, the union-find root (:func:`_root`), waking an island (:func:`_wake`),
 falling asleep (:func:`_sleep`), the sleeping supports' impulse each step (:func:`_carry`, with
 :func:`_along_normals` and :func:`_solve_small`) and whether nothing can move
-(:func:`_at_rest`). It imports :mod:`.step_kernels`, :mod:`.contact_time_of_impact` (a support's
+(:func:`_at_rest`). It imports :mod:`.non_literal`, :mod:`.contact_time_of_impact` (a support's
 normal) and :mod:`.contact_candidates` (the rows grown when full); it must not import the
 impacts, the solve, push-apart or the loop (which wake and put islands to sleep through it).
 """
@@ -21,14 +21,14 @@ import numpy as np
 
 from ..tolerances import SLEEP_SPEED, SLEEP_TIME
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
+    nl: Any = globals()["_NON_LITERAL"]
     ct: Any = globals()["_CONTACT_TIME_OF_IMPACT"]
     cc: Any = globals()["_CONTACT_CANDIDATES"]
 else:
     from . import contact_candidates as cc
     from . import contact_time_of_impact as ct
-    from . import step_kernels as sk
+    from . import non_literal as nl
 
 #: An axis counts as spanned by a sleeping island's support normals when its diagonal entry of
 #: ``sum P_w n_w n_w^T`` is more than this fraction of the trace (dimensionless): a 2D world's
@@ -51,7 +51,7 @@ def _wake(
     """Wake every body of island ``which`` at time ``t``; returns how many woke. Its supports
     carried it for the fraction ``held`` of this step: that share of their impulse per step is
     booked (:func:`_sleep` books only the islands asleep at the step's end)."""
-    woke = sk._int(0)
+    woke = nl._int(0)
     for i in range(island.shape[0]):
         if asleep[i] != 0 and island[i] == which:
             asleep[i] = 0
@@ -87,7 +87,7 @@ def _along_normals(rows_f: Any, first: int, last: int, total: float, target: Any
             for j in range(3):
                 mat[i, j] += rows_f[w, i] * rows_f[w, j] / size
     axes = np.zeros(3, np.int64)  # the axes the normals span (a 2D world's z is never one)
-    count = sk._int(0)
+    count = nl._int(0)
     for k in range(3):
         if mat[k, k] > SPAN_FRACTION * (mat[0, 0] + mat[1, 1] + mat[2, 2]):
             axes[count] = k
@@ -149,7 +149,7 @@ def _solve_small(mat: Any, rhs: Any, count: int) -> Any:
 def _carry(rows_i: Any, rows_f: Any, row_count: Any, asleep: Any, static_impulse: Any) -> None:
     """One step of the sleeping islands' weight on their supports: each row of a body still
     asleep adds its impulse to its static's ``static_impulse``; a woken body's rows are dropped."""
-    kept = sk._int(0)
+    kept = nl._int(0)
     for r in range(row_count[0]):
         if asleep[rows_i[r, 1]] != 0:
             for k in range(3):
@@ -270,7 +270,7 @@ def _sleep(
                 still[i] = 0.0
                 for k in range(3):
                     vel[i, k] = 0.0
-    count = sk._int(0)
+    count = nl._int(0)
     for i in range(n):
         count += asleep[i]
     status[4] = count

@@ -64,7 +64,7 @@ The stepper lives in files of its own, each owning one concept (this file is the
 * :mod:`.contact_islands` - phase 5's islands and sleep, a sleeping island's supports, waking;
 * this file - the loop (:func:`run_contact_steps`), the phases in order.
 
-This file imports those (and :mod:`.step_kernels`); none of them imports it.
+This file imports those (and :mod:`.non_literal`); none of them imports it.
 """
 
 from __future__ import annotations
@@ -73,8 +73,8 @@ from typing import Any
 
 import numpy as np
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
+    nl: Any = globals()["_NON_LITERAL"]
     cc: Any = globals()["_CONTACT_CANDIDATES"]
     ci: Any = globals()["_CONTACT_IMPACTS"]
     il: Any = globals()["_CONTACT_ISLANDS"]
@@ -88,7 +88,7 @@ else:
     from . import contact_push_apart as cp
     from . import contact_qp as qp
     from . import contact_solver as cs
-    from . import step_kernels as sk
+    from . import non_literal as nl
 
 __all__ = ["MAX_IMPACTS_PER_STEP", "PAIR_COLUMNS", "STATUS_SIZE", "run_contact_steps"]
 
@@ -118,7 +118,7 @@ def run_contact_steps(
     empty = np.zeros(0, np.int64)
     lists = (pairs, pf, adj, empty, np.zeros(0), empty, empty)
     u = 0.0
-    count = sk._int(0)
+    count = nl._int(0)
     for step in range(first_step, first_step + steps):
         if il._at_rest(vel, ima, asleep):
             il._carry(rows_i, rows_f, row_count, asleep, static_impulse)
@@ -162,7 +162,7 @@ def run_contact_steps(
                 left = dt - t
         pairs, pf, adj = lists[0], lists[1], lists[2]
         cp._push_apart(kind, pos, ext, ima, asleep, s_kind, s_a, s_b, pairs, count, gravity, slop, ledger,
-                       sk._int(cp.PUSH_ROUNDS), sk._int(cp.PUSH_MPRGP), sk._int(cp.PUSH_APGD))  # fmt: skip
+                       nl._int(cp.PUSH_ROUNDS), nl._int(cp.PUSH_MPRGP), nl._int(cp.PUSH_APGD))  # fmt: skip
         asleep_before = asleep.copy()
         rows_i, rows_f = il._sleep(
             kind, pos, vel, ext, ima, s_kind, s_a, s_b, asleep, still, island, parent, memory, memory_lam,
@@ -171,6 +171,6 @@ def run_contact_steps(
         if (asleep != asleep_before).any():  # an island fell asleep: it is left as it lies, so
             # without the overlaps one step's push-apart left (what a pile at rest shows)
             cp._push_apart(kind, pos, ext, ima, asleep_before, s_kind, s_a, s_b, pairs, count, gravity, slop,
-                           ledger, sk._int(cp.SETTLE_ROUNDS), sk._int(cp.SETTLE_MPRGP),
-                           sk._int(cp.SETTLE_APGD))  # fmt: skip
+                           ledger, nl._int(cp.SETTLE_ROUNDS), nl._int(cp.SETTLE_MPRGP),
+                           nl._int(cp.SETTLE_APGD))  # fmt: skip
     return lists[0], lists[1], lists[2], contacts, memory, memory_lam, rows_i, rows_f, events

@@ -3,17 +3,17 @@ with their impulses, which the next solve starts from (the warm start) and the i
 bodies by.
 
 Owns a pair's key (:func:`_key`: a key ``k`` is the pair ``(k // n - m, k % n)``) and its lookup
-(:func:`_find`). It imports only :mod:`.step_kernels`; it must not import any other contact file.
+(:func:`_find`). It imports only :mod:`.non_literal`; it must not import any other contact file.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
+    nl: Any = globals()["_NON_LITERAL"]
 else:
-    from . import step_kernels as sk
+    from . import non_literal as nl
 
 #: Helpers the compiled form inlines into their callers (:mod:`.compiled`).
 INLINE = ("_key", "_find")
@@ -26,7 +26,7 @@ def _key(a: int, b: int, m: int, n: int) -> int:
 
 def _find(keys: Any, count: int, key: int) -> int:
     """Where ``key`` is in the sorted ``keys[:count]``, or -1 (binary search)."""
-    lo = sk._int(0)
+    lo = nl._int(0)
     hi = count
     while lo < hi:
         mid = (lo + hi) // 2

@@ -5,7 +5,7 @@ to the ledger's push-apart column.
 
 Owns the push-apart (:func:`_push_apart`) and its rounds and iterations, each step
 (``PUSH_ROUNDS``, ``PUSH_MPRGP``, ``PUSH_APGD``) and over an island as it falls asleep
-(``SETTLE_ROUNDS``, ``SETTLE_MPRGP``, ``SETTLE_APGD``). It imports :mod:`.step_kernels`,
+(``SETTLE_ROUNDS``, ``SETTLE_MPRGP``, ``SETTLE_APGD``). It imports :mod:`.non_literal`,
 :mod:`.contact_time_of_impact` (a pair's gap) and :mod:`.contact_qp`; it must not import the
 candidates, impacts, solve, islands or the loop.
 """
@@ -16,14 +16,14 @@ from typing import Any
 
 import numpy as np
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
+    nl: Any = globals()["_NON_LITERAL"]
     ct: Any = globals()["_CONTACT_TIME_OF_IMPACT"]
     qp: Any = globals()["_CONTACT_QP"]
 else:
     from . import contact_qp as qp
     from . import contact_time_of_impact as ct
-    from . import step_kernels as sk
+    from . import non_literal as nl
 
 #: The most rounds of push-apart at the end of a step, and the most iterations of each (a
 #: solve of its own, from the gaps anew): MPRGP alone (with APGD after 20 of it, the pour's
@@ -70,7 +70,7 @@ def _push_apart(
         ca = np.empty(count, np.int64)
         cb = np.empty(count, np.int64)
         cf = np.zeros((count, 7))
-        c = sk._int(0)
+        c = nl._int(0)
         for p in range(count):
             a = pairs[p, 0]
             b = pairs[p, 1]

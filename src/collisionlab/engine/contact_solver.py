@@ -7,7 +7,7 @@ impulses take goes to the ledger, measured and theory's.
 Owns ``PAIR_COLUMNS`` (a pair's float row), the solve's iteration caps (``COLD_SOLVER_SWEEPS``,
 ``MPRGP_SWEEPS``, ``APGD_SWEEPS``), the solve (:func:`_solve`) and its helpers on pair rows
 (:func:`_apply`, :func:`_normal_velocity`, :func:`_contact_kinetic`). It imports
-:mod:`.step_kernels`, :mod:`.contact_time_of_impact` (a pair's separation),
+:mod:`.non_literal`, :mod:`.contact_time_of_impact` (a pair's separation),
 :mod:`.contact_memory` and :mod:`.contact_qp`; it must not import the candidates, impacts,
 push-apart, islands or the loop.
 """
@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
+    nl: Any = globals()["_NON_LITERAL"]
     ct: Any = globals()["_CONTACT_TIME_OF_IMPACT"]
     cm: Any = globals()["_CONTACT_MEMORY"]
     qp: Any = globals()["_CONTACT_QP"]
@@ -27,7 +27,7 @@ else:
     from . import contact_memory as cm
     from . import contact_qp as qp
     from . import contact_time_of_impact as ct
-    from . import step_kernels as sk
+    from . import non_literal as nl
 
 #: The most iterations of a solve most of whose touching contacts are new (nothing to start from: a
 #: stack's first step, where a column of k balls needs of the order of k^2 sweeps).
@@ -56,8 +56,8 @@ def _solve(
     m = s_kind.shape[0]
     n = pos.shape[0]
     h = 0.5 * dt
-    c = sk._int(0)
-    cold = sk._int(0)  # contacts touching with nothing remembered
+    c = nl._int(0)
+    cold = nl._int(0)  # contacts touching with nothing remembered
     for p in range(count):
         a = pairs[p, 0]
         b = pairs[p, 1]
@@ -128,9 +128,9 @@ def _solve(
         cf[q, 5] = pf[p, 8]
         cf[q, 6] = pf[p, 5]
     if 2 * cold > c:
-        if not qp._mprgp(ca, cb, cf, c, vel, ima, n, sk._int(COLD_SOLVER_SWEEPS), status):
+        if not qp._mprgp(ca, cb, cf, c, vel, ima, n, nl._int(COLD_SOLVER_SWEEPS), status):
             status[2] += 1
-    elif not qp._qp(ca, cb, cf, c, vel, ima, n, sk._int(MPRGP_SWEEPS), sk._int(APGD_SWEEPS), status):
+    elif not qp._qp(ca, cb, cf, c, vel, ima, n, nl._int(MPRGP_SWEEPS), nl._int(APGD_SWEEPS), status):
         status[2] += 1
     for q in range(c):
         pf[contacts[q], 5] = cf[q, 6]
@@ -144,12 +144,12 @@ def _solve(
         p = contacts[q]
         work += pf[p, 5] * (approach[q] + _normal_velocity(pairs, pf, p, vel))
     ledger[3] += 0.5 * work
-    kept = sk._int(0)
+    kept = nl._int(0)
     for q in range(c):
         kept += pf[contacts[q], 5] > 0.0
     memory = np.empty(kept, np.int64)  # the pairs pushing, for the warm start and the islands
     lam = np.empty(kept)
-    kept = sk._int(0)
+    kept = nl._int(0)
     for q in range(c):
         p = contacts[q]
         a = pairs[p, 0]

@@ -5,7 +5,7 @@ than the rest speed has no impact (it is the solve's).
 
 Owns ``TOI_ITERATIONS``, a pair's separation at given positions or where the bodies are
 (:func:`_sep_of`, :func:`_sep_now`: every other contact file asks it) and the time of impact
-(:func:`_pair_toi`). It imports :mod:`.geometry_kernels`, :mod:`.step_kernels`' separations and
+(:func:`_pair_toi`). It imports :mod:`.geometry_kernels`, :mod:`.pair_separation` and
 :mod:`.contact_flight`; it must not import the candidates, impacts, solve, push-apart, islands or
 the loop (which ask it, not the other way round).
 """
@@ -19,12 +19,12 @@ from ..tolerances import APPROACH_ROUNDING, TOI_GAP
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
-    sk: Any = globals()["_STEP"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
     fl: Any = globals()["_CONTACT_FLIGHT"]
 else:
     from . import contact_flight as fl
     from . import geometry_kernels as gk
-    from . import step_kernels as sk
+    from . import pair_separation as ps
 
 #: The most iterations of conservative advancement for one prediction; the time reached is then
 #: used (never after the impact: the pair is looked at again there).
@@ -41,11 +41,11 @@ def _sep_of(
     """Separation of pair ``(a, b)`` (``a < 0``: the static ``-1 - a``) with the bodies at the
     given positions, normal from a to b."""
     if a >= 0:
-        return sk._pair_sep(
+        return ps._pair_sep(
             kind[a], ax, ay, az, ext[a, 0], ext[a, 1], ext[a, 2], kind[b], bx, by, bz, ext[b, 0], ext[b, 1], ext[b, 2]
         )
     s = -1 - a
-    return sk._static_sep(
+    return ps._static_sep(
         s_kind[s], s_a[s, 0], s_a[s, 1], s_a[s, 2], s_b[s, 0], s_b[s, 1], s_b[s, 2],
         kind[b], bx, by, bz, ext[b, 0], ext[b, 1], ext[b, 2],
     )  # fmt: skip
@@ -70,7 +70,7 @@ def _pair_toi(
     acceleration) and the true gap is never below it, so its first root is never after the impact. A
     pair touching and moving apart is followed to when its gap along ``n`` closes again, once. A
     pair that touches approaching no faster than ``rest_speed`` gets ``inf``: that is no impact."""
-    straight = a >= 0 and kind[a] <= sk.BALL_3D and kind[b] <= sk.BALL_3D
+    straight = a >= 0 and kind[a] <= ps.BALL_3D and kind[b] <= ps.BALL_3D
     alx = acc[b, 0] - (acc[a, 0] if a >= 0 else 0.0)
     aly = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
     alz = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)

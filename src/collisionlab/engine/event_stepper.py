@@ -11,7 +11,7 @@ law are the engine's (:mod:`collisionlab.engine.geometry_kernels`); inelastic co
 stopped by the TC model (a collision of a ball that collided less than ``tc`` ago is elastic:
 :mod:`collisionlab.edmd.loop`).
 
-Events come out as the Forward Euler stepper's rows (``step_kernels.EVENT_COLUMNS``), oriented
+Events come out as the Forward Euler stepper's rows (``event_rows.EVENT_COLUMNS``), oriented
 as the engine orients pairs (the body given first is A; a wall is A, its normal pointing at the
 ball), so the world records and streams them as any other. The ledger: the collisions' change of
 kinetic energy as measured, beside theory's ``(1 - e^2)/2 mu v_n^2``; no integrator error (exact
@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InvalidInputError
 from ..model import BallSpecies, Box
-from . import step_kernels
+from . import event_rows, step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
 
@@ -128,7 +128,7 @@ class EventDrivenStepper:
             raise InvalidInputError(field, error.problem, error.got) from None
         self.guard = RunGuard(self.world)
         self.ledger = np.zeros(step_kernels.LEDGER_SIZE)
-        self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
+        self._events = np.zeros((0, event_rows.EVENT_COLUMNS))
         self._copied = True  # the world's arrays hold the start
 
     def advance(self, kernels: ModuleType | None, dt: float, restitution: float, first_step: int, steps: int) -> None:
@@ -187,7 +187,7 @@ class EventDrivenStepper:
     def _rows(self, raw: FloatArray, dt: float, first_step: int, steps: int) -> FloatArray:
         """The loop's event rows (:mod:`collisionlab.edmd.layout`) as the engine's."""
         n = raw.shape[0]
-        rows = np.zeros((n, step_kernels.EVENT_COLUMNS))
+        rows = np.zeros((n, event_rows.EVENT_COLUMNS))
         if n == 0:
             return rows
         d = self.dims
@@ -196,7 +196,7 @@ class EventDrivenStepper:
         # statics, in the same order), then bodies in the order given.
         swap = (b < 0) | ((b >= 0) & (b < a))
         sign = np.where(swap, -1.0, 1.0)[:, None]
-        rows[:, 0] = step_kernels.EVENT_IMPACT
+        rows[:, 0] = event_rows.EVENT_IMPACT
         step = np.ceil(raw[:, 0] / dt)
         rows[:, 1] = np.clip(step, first_step + 1, first_step + steps)
         rows[:, 2] = raw[:, 0]
@@ -229,11 +229,11 @@ class EventDrivenStepper:
         ledger[6] = world.K[layout.K_WALLS]
 
     def events(self) -> FloatArray:
-        """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
+        """The event rows of the last :meth:`advance` (``event_rows.EVENT_COLUMNS`` columns)."""
         return self._events
 
     def release_events(self) -> None:
-        self._events = np.zeros((0, step_kernels.EVENT_COLUMNS))
+        self._events = np.zeros((0, event_rows.EVENT_COLUMNS))
 
     def nbytes(self) -> int:
         """Bytes of every array held: the event loop's, and the world's state."""

@@ -21,8 +21,9 @@ from typing import Any
 
 from ..tolerances import MAX_RUN_SPEED
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_EVENT_ROWS" in globals():  # the compiled copy: the kernels it calls are compiled too
+    evr: Any = globals()["_EVENT_ROWS"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
     ef: Any = globals()["_EXACT_FLIGHT"]
     et: Any = globals()["_EXACT_TIME_OF_IMPACT"]
@@ -32,13 +33,14 @@ if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled
     st: Any = globals()["_EXACT_SETTLE"]
 else:
     from . import event_heap as eh
+    from . import event_rows as evr
     from . import exact_flight as ef
     from . import exact_impulses as ej
     from . import exact_rest as er
     from . import exact_settle as st
     from . import exact_sweeps as es
     from . import exact_time_of_impact as et
-    from . import step_kernels as sk
+    from . import pair_separation as ps
 
 #: The most impacts resolved within one step; past it the step ends without the rest (a guard
 #: against an endless run of impacts; the world warns, ``status[0]`` counts such steps).
@@ -220,7 +222,7 @@ def _impacts(
             # its straight flight opened is closed (the held body moved onto its holder,
             # as push-apart moves bodies: momentum kept, the energy in ledger[2]) and its
             # bodies are looked at again below, as kicked bodies are.
-            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+            sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
             if 0.0 < sep[0] <= contact_margin:
                 held = b if a < 0 or ima[a] == 0.0 or nsup[a] > 0 else a
                 sign = -1.0 if held == b else 1.0
@@ -237,7 +239,7 @@ def _impacts(
                     n_kicked += 1
                     is_kicked[i] = 1
         else:
-            sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
+            sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
             st._remember(sep_ev, sep_val, c, ev, sep)
             ver[c] += 1
             if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
@@ -257,10 +259,10 @@ def _impacts(
             if vn >= -et._rounding_speed(before[0], before[1], before[2], before[3], before[4], before[5]):
                 # it grazes away (or its approach is only rounding): nothing to resolve
                 if record and touching[c] == 0:
-                    sk._put_event(
+                    evr._put_event(
                         events,
                         event_count[0],
-                        sk.EVENT_SKIPPED,
+                        evr.EVENT_SKIPPED,
                         step + 1,
                         start + when,
                         id_a,
@@ -277,7 +279,7 @@ def _impacts(
                     event_count[0] += 1
                 ignored[c] = 1
                 continue
-            e_pair = sk._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
+            e_pair = ps._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default)
             # An approach no faster than falling twice the contact margin gives (a rest
             # within the margin whose flight left a curved support by up to half of it
             # more, er._support_expiry) lands resting: e = 0 and no new event if in contact,
@@ -294,10 +296,10 @@ def _impacts(
                 if not abs(vel[b, k]) <= MAX_RUN_SPEED or (a >= 0 and not abs(vel[a, k]) <= MAX_RUN_SPEED):
                     runaway = True
             if record and (touching[c] == 0 or not below):
-                sk._put_event(
+                evr._put_event(
                     events,
                     event_count[0],
-                    sk.EVENT_BELOW_REST if below else sk.EVENT_IMPACT,
+                    evr.EVENT_BELOW_REST if below else evr.EVENT_IMPACT,
                     step + 1,
                     start + when,
                     id_a,

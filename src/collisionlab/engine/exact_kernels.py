@@ -63,8 +63,10 @@ The phases live in files of their own, each owning one concept (this file is the
   contact remembered;
 * this file - the loop (:func:`run_exact_steps`), the phases in order.
 
-This file imports those (and :mod:`.step_kernels`' broad phase, push-apart and events); none of
-them imports it.
+This file imports those (and the Forward Euler stepper's files of the broad phase, the contacts'
+order, push-apart, clamps and events: :mod:`.broad_phase_grid`, :mod:`.broad_phase_pairs`,
+:mod:`.contact_order`, :mod:`.euler_push_apart`, :mod:`.euler_clamps`, :mod:`.event_rows`, with
+:mod:`.pair_separation`, :mod:`.touching_memory` and :mod:`.non_literal`); none of them imports it.
 """
 
 from __future__ import annotations
@@ -74,8 +76,16 @@ from typing import Any
 
 import numpy as np
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_BROAD_PHASE_GRID" in globals():  # the compiled copy: the kernels it calls are compiled too
+    bg: Any = globals()["_BROAD_PHASE_GRID"]
+    bp: Any = globals()["_BROAD_PHASE_PAIRS"]
+    co: Any = globals()["_CONTACT_ORDER"]
+    cl: Any = globals()["_EULER_CLAMPS"]
+    pu: Any = globals()["_EULER_PUSH_APART"]
+    evr: Any = globals()["_EVENT_ROWS"]
+    nl: Any = globals()["_NON_LITERAL"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
+    tm: Any = globals()["_TOUCHING_MEMORY"]
     ef: Any = globals()["_EXACT_FLIGHT"]
     er: Any = globals()["_EXACT_REST"]
     es: Any = globals()["_EXACT_SWEEPS"]
@@ -83,13 +93,21 @@ if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled
     ei: Any = globals()["_EXACT_IMPACTS"]
     se: Any = globals()["_EXACT_STEP_END"]
 else:
+    from . import broad_phase_grid as bg
+    from . import broad_phase_pairs as bp
+    from . import contact_order as co
+    from . import euler_clamps as cl
+    from . import euler_push_apart as pu
+    from . import event_rows as evr
     from . import exact_flight as ef
     from . import exact_impacts as ei
     from . import exact_rest as er
     from . import exact_settle as st
     from . import exact_step_end as se
     from . import exact_sweeps as es
-    from . import step_kernels as sk
+    from . import non_literal as nl
+    from . import pair_separation as ps
+    from . import touching_memory as tm
 
 __all__ = ["MAX_IMPACTS_PER_STEP", "RELAX_IMPULSES", "STATUS_SIZE", "run_exact_steps"]
 
@@ -172,7 +190,7 @@ def run_exact_steps(
     # changed a body (look_changed), on one clock (look_clock): er._unchanged_since.
     look_seen = np.zeros(0, np.int64)
     look_changed = np.zeros(n, np.int64)
-    look_clock = sk._int(0)
+    look_clock = nl._int(0)
     near_idx = np.zeros(0, np.int64)
     seen = np.zeros(0, np.int64)
     g_size = math.sqrt(gravity[0] ** 2 + gravity[1] ** 2 + gravity[2] ** 2)
@@ -180,11 +198,11 @@ def run_exact_steps(
     ht = np.zeros(64)
     hk = np.zeros(64, np.int64)
     hv = np.zeros(64, np.int64)
-    width = sk._grid_width(ext, dims)  # the widest body in the grid; wider ones are met apart
+    width = bg._grid_width(ext, dims)  # the widest body in the grid; wider ones are met apart
     key_of = np.zeros(n, np.int64)
     cell_key = np.zeros(n, np.int64)
     hashed = np.zeros(0, np.int64)  # a hashed grid's buckets, held while this call runs
-    ev = sk._int(0)  # the events resolved so far (the separations' memory)
+    ev = nl._int(0)  # the events resolved so far (the separations' memory)
     v_ref = np.zeros(3)  # the frame the candidates' sweep is measured in (es._velocity_bounds)
     table = np.zeros(16, np.int64)  # a hash table of the pairs in contact (_mark_touching)
     # Each candidate's unit normal where it was listed (phase 2 reads it), then where the step
@@ -192,14 +210,14 @@ def run_exact_steps(
     cn = np.zeros((ca.shape[0], 3))
     looked = np.zeros(0, np.int64)  # when push-apart last looked at a pair (_push_sweep)
     moved = np.zeros(n, np.int64)  # when push-apart last moved a body
-    push_clock = sk._int(0)
+    push_clock = nl._int(0)
     bound = np.zeros(n)  # each body's speed bound for the listing, relative to v_ref (es._sweeps)
     reach = np.zeros(n)  # how far that lets it move in the rest of the step
     for step in range(first_step, first_step + steps):
         start = step * dt
         t = 0.0
-        impacts = sk._int(0)
-        runaway = sk._bool(False)
+        impacts = nl._int(0)
+        runaway = nl._bool(False)
         for i in range(n):
             tau[i] = 0.0
         count = 0
@@ -225,15 +243,15 @@ def run_exact_steps(
                 # holds (all but the widest few, which meet it apart) plus the margin, hashed
                 # into buckets when there would be too many.
                 cell = width + margin if width + margin > 0.0 else min_cell
-                h, buckets = sk._grid_plan(pos, ext, dims, width, cell, max_cells, lo, shape)
+                h, buckets = bg._grid_plan(pos, ext, dims, width, cell, max_cells, lo, shape)
                 if buckets > 0 and hashed.shape[0] < buckets + 3:
                     hashed = np.zeros(buckets + 3, np.int64)
                 starts = hashed if buckets > 0 else cell_start
-                n_small = sk._bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
-                sk._store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
+                n_small = bg._bucket_sort(pos, ext, dims, lo, h, shape, width, buckets, starts, dest, key_of, cell_key)
+                bg._store_in_cell_order(kind, pos, vel, ext, ima, eb, ids, scratch_f, scratch_i, dest)
                 es._sweeps(vel, v_ref, u_bound, floor, remaining, drift, bound, reach)  # in the bodies' new order
                 while True:  # listed again, into arrays twice as large, when they were too small
-                    count = sk._find_pairs(
+                    count = bp._find_pairs(
                         kind, pos, ext, ids, s_kind, s_a, s_b, dims, lo, h, shape, buckets, n_small, starts,
                         stencil, cell_key, ca, cb, cd, cn, margin, static_margin, reach, contact_margin,
                     )  # fmt: skip
@@ -251,20 +269,20 @@ def run_exact_steps(
                 normals = cn  # as listed: the positions have not changed since
                 while table.shape[0] < 2 * touch_count[0]:
                     table = np.zeros(2 * table.shape[0], np.int64)
-                sk._mark_touching(touch_keys, touch_count[0], table, ca, cb, ids, n, count, touching)
+                tm._mark_touching(touch_keys, touch_count[0], table, ca, cb, ids, n, count, touching)
                 if resting_on:
                     # Only pairs in contact can rest: order those alone. A pair is looked at again
                     # only once one of its bodies changed since (er._rest returns 0 again otherwise).
                     if near_idx.shape[0] < count:
                         near_idx = np.zeros(2 * count, np.int64)
                         seen = np.zeros(2 * count, np.int64)
-                    n_near = sk._int(0)
+                    n_near = nl._int(0)
                     for c in range(count):
                         if -cd[c] <= contact_margin:
                             near_idx[n_near] = c
                             n_near += 1
                             seen[c] = 0
-                    order = sk._order_coupled(pos, ca, cb, cd, near_idx, n_near, degree)
+                    order = co._order_coupled(pos, ca, cb, cd, near_idx, n_near, degree)
                     er._rest_passes(
                         order, n_near, seen, changed_at, ca, cb, normals, kind, vel, ext, ima, acc, sup, nsup, s_kind,
                         rest, touching, rest_speed, ledger,
@@ -309,7 +327,7 @@ def run_exact_steps(
             event_room = 1 + min(count, st.RELAX_IMPULSES + max_degree)  # the most rows one impact writes
             while True:
                 if record:
-                    events = sk._events_with_room(events, event_count[0], event_room)
+                    events = evr._events_with_room(events, event_count[0], event_room)
                 code, size, ev, impacts, look_clock, runaway, when = ei._impacts(
                     kind, pos, vel, acc, tau, ext, ima, eb, ids, s_kind, s_a, s_b, s_e, gravity, ca, cb, cd, count,
                     adj_start, adj, rest, touching, ignored, normals, sup, nsup, ver, ht, hk, hv, size, sep_ev,
@@ -324,7 +342,7 @@ def run_exact_steps(
                 ef._advance_all(when, pos, vel, acc, tau, ima, gravity, ledger)
                 near = np.zeros(count, np.int8)
                 for c2 in range(count):
-                    sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
+                    sep2 = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c2], cb[c2])
                     near[c2] = 1 if sep2[0] <= contact_margin else 0
                 touch_keys = se._save_touching(ca, cb, ids, n, count, touching, near, touch_keys, touch_count)
                 t = when
@@ -349,17 +367,17 @@ def run_exact_steps(
         # overlap): with none, its first pass would move nothing, so neither it nor its order
         # is needed.
         if overlap:
-            order = sk._order_coupled(pos, ca, cb, cd, near_idx, n_push, degree)
+            order = co._order_coupled(pos, ca, cb, cd, near_idx, n_push, degree)
             found = push_clock  # every earlier tick is below it
             for p in range(passes):
-                moves = sk._push_sweep(
+                moves = pu._push_sweep(
                     kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, cd, cn, order, looked, moved, found,
                     found + 1 + p * n_push, p == 0, gravity, slop, solver_margin, ledger,
                 )  # fmt: skip
                 if moves == 0:
                     break
             push_clock = found + 1 + passes * n_push
-        sk._clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
+        cl._clamp_to_walls(kind, pos, ext, ima, s_kind, s_a, s_b, ca, cb, count, gravity, slop, ledger)
         near = np.zeros(count, np.int8)
         for c in range(count):
             # a resting pair is in contact even where its flight past a curved support opened

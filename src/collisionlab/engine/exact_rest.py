@@ -10,7 +10,7 @@ leave the support (the rest's expiry, an event of the impacts' heap).
 Owns ``MAX_SUPPORTS``, a body's acceleration before its rests (:func:`_base_acceleration`), a
 pair's rest (:func:`_rest`, with :func:`_curvature` and :func:`_support_expiry`), the passes over
 the pairs in contact (:func:`_rest_passes`) and when a pair need not be looked at again
-(:func:`_unchanged_since`). It imports :mod:`.geometry_kernels`, :mod:`.step_kernels`' shape
+(:func:`_unchanged_since`). It imports :mod:`.geometry_kernels`, :mod:`.pair_separation`'s shape
 kinds and :mod:`.exact_impulses`; it must not import the time of impact, the sweeps, the impacts
 or the loop (which look at rests, not the other way round).
 """
@@ -22,12 +22,12 @@ from typing import Any
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
-    sk: Any = globals()["_STEP"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
     ej: Any = globals()["_EXACT_IMPULSES"]
 else:
     from . import exact_impulses as ej
     from . import geometry_kernels as gk
-    from . import step_kernels as sk
+    from . import pair_separation as ps
 
 #: At most this many support normals are kept per body (a floor and two walls).
 MAX_SUPPORTS = 3
@@ -63,15 +63,15 @@ def _curvature(kind: Any, ext: Any, s_kind: Any, a: int, b: int, nx: float, ny: 
     """Radius of curvature of the surface pair ``(a, b)`` slides on (the Minkowski sum of the two
     shapes): ``r_a + r_b`` for two balls, the ball's radius on a box's edge or corner (a normal off
     the axes), ``inf`` when flat (a line, a plane, a wall, a box face, two boxes)."""
-    if a < 0 and s_kind[-1 - a] != sk.STATIC_BOX:
+    if a < 0 and s_kind[-1 - a] != ps.STATIC_BOX:
         return math.inf  # a line, plane or wall: the commonest support, decided first
-    ball_a = a >= 0 and kind[a] <= sk.BALL_3D
-    ball_b = kind[b] <= sk.BALL_3D
+    ball_a = a >= 0 and kind[a] <= ps.BALL_3D
+    ball_b = kind[b] <= ps.BALL_3D
     if ball_a and ball_b:
         return float(ext[a, 0] + ext[b, 0])
     if not ball_a and not ball_b:
         return math.inf
-    box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == sk.STATIC_BOX)
+    box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == ps.STATIC_BOX)
     if not (box_a or not ball_b):
         return math.inf  # a ball on a line, plane or wall
     off_axes = (1 if nx != 0.0 else 0) + (1 if ny != 0.0 else 0) + (1 if nz != 0.0 else 0)
@@ -99,11 +99,11 @@ def _support_expiry(
 
     (a ball of radius 0.5 on a box sliding past it at 0.1 m/s: ``sqrt(0.5 * 2e-7) / 0.1`` s.)
     """
-    if a < 0 and s_kind[-1 - a] != sk.STATIC_BOX:
+    if a < 0 and s_kind[-1 - a] != ps.STATIC_BOX:
         return math.inf  # a line, plane or wall: the commonest support, decided first
-    ball_a = a >= 0 and kind[a] <= sk.BALL_3D
-    ball_b = kind[b] <= sk.BALL_3D
-    box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == sk.STATIC_BOX)
+    ball_a = a >= 0 and kind[a] <= ps.BALL_3D
+    ball_b = kind[b] <= ps.BALL_3D
+    box_a = (a >= 0 and not ball_a) or (a < 0 and s_kind[-1 - a] == ps.STATIC_BOX)
     if ball_a and ball_b:
         radius = ext[a, 0] + ext[b, 0]
     elif ball_b and box_a:

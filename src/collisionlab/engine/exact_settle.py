@@ -22,7 +22,8 @@ from typing import Any
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
-    sk: Any = globals()["_STEP"]
+    evr: Any = globals()["_EVENT_ROWS"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
     ef: Any = globals()["_EXACT_FLIGHT"]
     et: Any = globals()["_EXACT_TIME_OF_IMPACT"]
@@ -30,12 +31,13 @@ if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are comp
     er: Any = globals()["_EXACT_REST"]
 else:
     from . import event_heap as eh
+    from . import event_rows as evr
     from . import exact_flight as ef
     from . import exact_impulses as ej
     from . import exact_rest as er
     from . import exact_time_of_impact as et
     from . import geometry_kernels as gk
-    from . import step_kernels as sk
+    from . import pair_separation as ps
 
 #: The most impulses that settle the contacts one impact touches (a row of k balls needs k).
 RELAX_IMPULSES = 4096
@@ -148,7 +150,7 @@ def _settle(
             else:
                 if other >= 0:
                     ef._advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                sep2 = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
                 _remember(sep_ev, sep_val, c2, ev, sep2)
             if sep2[0] > contact_margin:
                 continue
@@ -173,7 +175,7 @@ def _settle(
                     an += (acc[b2, k] - (acc[a2, k] if a2 >= 0 else 0.0)) * sep2[1 + k]
                 if gk.first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
                     continue
-            e2_pair = sk._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
+            e2_pair = ps._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
             e_2 = 0.0 if -vn2 < rest_speed else e2_pair
             j2 = ej._kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
             if j2 == 0.0:
@@ -181,10 +183,10 @@ def _settle(
             settled += 1
             status[1] += 1
             if record and touching[c2] == 0:
-                sk._put_event(
+                evr._put_event(
                     events,
                     event_count[0],
-                    sk.EVENT_BELOW_REST if -vn2 < rest_speed else sk.EVENT_IMPACT,
+                    evr.EVENT_BELOW_REST if -vn2 < rest_speed else evr.EVENT_IMPACT,
                     step + 1,
                     start + when,
                     ids[a2] if a2 >= 0 else a2,
@@ -313,7 +315,7 @@ def _rest_again(
                     else:
                         if other >= 0:
                             ef._advance(other, when, pos, vel, acc, tau, ima, gravity, ledger)
-                        sep2 = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
+                        sep2 = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a2, b2)
                         _remember(sep_ev, sep_val, c2, ev, sep2)
                     if sep2[0] > contact_margin:
                         continue

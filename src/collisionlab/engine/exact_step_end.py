@@ -1,13 +1,13 @@
 """The end of the exact stepper's step (phase 5 of :mod:`.exact_kernels`), before push-apart
-(:mod:`.step_kernels`' ``_push_sweep``, as in Forward Euler): every candidate pair's depth at the
-step's end, or a bound on it when its bodies cannot have come near enough to matter
+(:mod:`.euler_push_apart`' ``_push_sweep``, as in Forward Euler): every candidate pair's depth at
+the step's end, or a bound on it when its bodies cannot have come near enough to matter
 (:func:`_end_separations`), and the pairs in contact remembered across the candidates' listings,
 so a pair is reported once per impact (:func:`_save_touching`; a step cut by a kick lists them
 again and remembers them first too).
 
-It imports :mod:`.step_kernels`' separations and pair keys and :mod:`.exact_sweeps`' bound on how
-much nearer a listed pair can be; it must not import the other exact files (their phases are
-over when this runs) or the loop, which calls it.
+It imports :mod:`.pair_separation`, :mod:`.touching_memory`'s pair keys and :mod:`.exact_sweeps`'
+bound on how much nearer a listed pair can be; it must not import the other exact files (their
+phases are over when this runs) or the loop, which calls it.
 """
 
 from __future__ import annotations
@@ -16,12 +16,14 @@ from typing import Any
 
 import numpy as np
 
-if "_STEP" in globals():  # the compiled copy: the kernels it calls are compiled too
-    sk: Any = globals()["_STEP"]
+if "_PAIR_SEPARATION" in globals():  # the compiled copy: the kernels it calls are compiled too
+    ps: Any = globals()["_PAIR_SEPARATION"]
+    tm: Any = globals()["_TOUCHING_MEMORY"]
     es: Any = globals()["_EXACT_SWEEPS"]
 else:
     from . import exact_sweeps as es
-    from . import step_kernels as sk
+    from . import pair_separation as ps
+    from . import touching_memory as tm
 
 #: The phase here that allocates nothing, compiled without numba's reference counts
 #: (:mod:`.compiled`).
@@ -33,13 +35,13 @@ def _save_touching(
 ) -> Any:
     """Remember the pairs in contact (touching and within the contact margin) across re-sorts, in
     no order (as :func:`~collisionlab.engine.step_kernels.run_steps`; looked up through a hash
-    table, :func:`~collisionlab.engine.step_kernels._mark_touching`)."""
+    table, :func:`~collisionlab.engine.touching_memory._mark_touching`)."""
     if count > touch_keys.shape[0]:
         touch_keys = np.zeros(2 * count, np.int64)
     kept = 0
     for c in range(count):
         if touching[c] == 1 and near[c] == 1:
-            touch_keys[kept] = sk._pair_key(ca, cb, ids, n, c)
+            touch_keys[kept] = tm._pair_key(ca, cb, ids, n, c)
             kept += 1
     touch_count[0] = kept
     return touch_keys
@@ -77,7 +79,7 @@ def _end_separations(
         if -cd[c] - closing > contact_margin + gap:
             cd[c] -= closing  # a bound is enough: neither pushed apart nor in contact
             continue
-        sep = sk._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
+        sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, ca[c], cb[c])
         cd[c] = -sep[0]
         for k in range(3):  # push-apart's first look at the pair, until a body moves
             cn[c, k] = sep[1 + k]

@@ -7,7 +7,7 @@ where its flight (:mod:`.exact_flight`) puts it at each time tried.
 Owns ``TOI_ITERATIONS``, :func:`_time_of_impact`, :func:`_separation_at` (both called as Python by
 :func:`collisionlab.toi.time_of_impact` too), two balls' root (:func:`_ball_ball_root`) and the
 approach speed that is only rounding (:func:`_rounding_speed`, which the impacts use too). It
-imports the separations of :mod:`.geometry_kernels` and :mod:`.step_kernels` and the flight; it
+imports the separations of :mod:`.geometry_kernels` and :mod:`.pair_separation` and the flight; it
 must not import the impulses, rests, sweeps, impacts or the loop (a query changes nothing).
 """
 
@@ -20,12 +20,12 @@ from ..tolerances import APPROACH_ROUNDING
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
     gk: Any = globals()["_GEOMETRY"]
-    sk: Any = globals()["_STEP"]
+    ps: Any = globals()["_PAIR_SEPARATION"]
     ef: Any = globals()["_EXACT_FLIGHT"]
 else:
     from . import exact_flight as ef
     from . import geometry_kernels as gk
-    from . import step_kernels as sk
+    from . import pair_separation as ps
 
 #: The most iterations of conservative advancement for one prediction; the time reached is then
 #: used (it is never after the impact, so nothing is missed: the pair is looked at again there).
@@ -102,8 +102,8 @@ def _separation_at(
             p2[r, k], v2[r, k] = ef._flown(pos[i, k], vel[i, k], acc[i, k], d)
             e2[r, k] = ext[i, k]
     if a >= 0:
-        return sk._body_separation(k2, p2, e2, 0, 1)
-    return sk._static_separation(s_kind, s_a, s_b, -1 - a, k2, p2, e2, 1)
+        return ps._body_separation(k2, p2, e2, 0, 1)
+    return ps._static_separation(s_kind, s_a, s_b, -1 - a, k2, p2, e2, 1)
 
 
 def _time_of_impact(
@@ -144,7 +144,7 @@ def _time_of_impact(
     ax = acc[b, 0] - (acc[a, 0] if a >= 0 else 0.0)
     ay = acc[b, 1] - (acc[a, 1] if a >= 0 else 0.0)
     az = acc[b, 2] - (acc[a, 2] if a >= 0 else 0.0)
-    straight = ax == 0.0 and ay == 0.0 and az == 0.0 and a >= 0 and ka <= sk.BALL_3D and kb <= sk.BALL_3D
+    straight = ax == 0.0 and ay == 0.0 and az == 0.0 and a >= 0 and ka <= ps.BALL_3D and kb <= ps.BALL_3D
     if floor > gap:
         span = t_end - t0
         d = t0 - tau[b]
@@ -179,9 +179,9 @@ def _time_of_impact(
             wax = vel[a, 0] + acc[a, 0] * d
             way = vel[a, 1] + acc[a, 1] * d
             waz = vel[a, 2] + acc[a, 2] * d
-            sep = sk._pair_sep(ka, px, py, pz, ea0, ea1, ea2, kb, bx, by, bz, eb0, eb1, eb2)
+            sep = ps._pair_sep(ka, px, py, pz, ea0, ea1, ea2, kb, bx, by, bz, eb0, eb1, eb2)
         else:
-            sep = sk._static_sep(
+            sep = ps._static_sep(
                 s_kind[s], s_a[s, 0], s_a[s, 1], s_a[s, 2], s_b[s, 0], s_b[s, 1], s_b[s, 2],
                 kb, bx, by, bz, eb0, eb1, eb2,
             )  # fmt: skip

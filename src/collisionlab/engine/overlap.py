@@ -1,6 +1,6 @@
 """Bodies that overlap at the start, found in NumPy before any kernel is compiled.
 
-The search is the kernels' uniform grid (``step_kernels.AXIS_CELLS`` and its cell keys):
+The search is the kernels' uniform grid (``broad_phase_grid.AXIS_CELLS`` and its cell keys):
 all but the widest bodies are binned in cells as wide as the widest of them and meet the bodies
 in their own and the neighbouring cells; the few wide ones meet, by a sweep along x, the bodies
 whose extent meets theirs. Bodies spread out cost about ``n log n`` (the sorts). Candidate pairs
@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..tolerances import CONTACT_SLOP
-from . import step_kernels as sk
+from . import broad_phase_grid as bg
+from . import pair_separation as ps
 from .state import BodyArrays, StaticArrays, bodies_of, static_names, statics_of
 from .stepper import stencil
 
@@ -33,7 +34,7 @@ __all__ = ["InitialOverlapError", "Overlaps", "find_overlaps", "overlap_message"
 _CHUNK_PAIRS = 1 << 16
 
 #: A grid cell's key: its coordinates (each below ``AXIS_CELLS``) packed as the kernels' keys.
-_KEY_SCALE = np.array([1, sk._KEY_Y, sk._KEY_Z], np.int64)
+_KEY_SCALE = np.array([1, bg._KEY_Y, bg._KEY_Z], np.int64)
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -118,16 +119,16 @@ def _static_overlaps(bodies: BodyArrays, statics: StaticArrays, slop: float, fou
     pos, ext = bodies.pos, bodies.ext
     for s in range(statics.m):
         a, b = statics.a[s], statics.b[s]
-        if statics.kind[s] == sk.STATIC_BOX:
+        if statics.kind[s] == ps.STATIC_BOX:
             near = np.all((pos + ext >= a) & (pos - ext <= b), axis=1)
         else:  # a line, plane or one-sided wall: the centre's side against the body's reach
             side = (pos - a) @ b
             reach = ext @ np.abs(b)
-            near = (np.abs(side) if statics.kind[s] == sk.STATIC_BOUNDARY else side) <= reach
+            near = (np.abs(side) if statics.kind[s] == ps.STATIC_BOUNDARY else side) <= reach
         rows = np.flatnonzero(near)
         depths = np.array(
             [
-                -sk._static_separation(statics.kind, statics.a, statics.b, s, bodies.kind, pos, ext, int(i))[0]
+                -ps._static_separation(statics.kind, statics.a, statics.b, s, bodies.kind, pos, ext, int(i))[0]
                 for i in rows
             ],
             dtype=np.float64,
@@ -144,7 +145,7 @@ def _body_overlaps(bodies: BodyArrays, dims: int, slop: float, every: bool, foun
     ext = bodies.ext[:, :dims]
     widths = 2.0 * ext.max(axis=1)
     # As the kernels' grid: all but the widest n // LARGE_SHARE bodies are at most ``width`` wide.
-    width = float(np.sort(widths)[n - 1 - min(n // sk.LARGE_SHARE, n - 1)])
+    width = float(np.sort(widths)[n - 1 - min(n // bg.LARGE_SHARE, n - 1)])
     small = np.flatnonzero(widths <= width)
     large = np.flatnonzero(widths > width)
     # Two bodies at most ``slop`` wide cannot overlap by more than ``slop``: no grid is needed.
@@ -173,7 +174,7 @@ def _grid_pairs(
     low = pos.min(axis=0)
     h = width
     # As the kernels' grid: cells are widened while an axis would have too many for its key.
-    while float((pos.max(axis=0) - low).max()) / h >= sk.AXIS_CELLS - 2:
+    while float((pos.max(axis=0) - low).max()) / h >= bg.AXIS_CELLS - 2:
         h *= 2.0
     cells = np.zeros((rows.size, 3), np.int64)
     cells[:, :dims] = np.floor((pos - low) / h).astype(np.int64) + 1  # + 1: a neighbour's is >= 0
@@ -240,7 +241,7 @@ def _range_pairs(
 def _measure(bodies: BodyArrays, dims: int, a: IntArray, b: IntArray, slop: float, found: Overlaps) -> None:
     """The depths of the pairs of rows ``(a, b)``, added to ``found`` under the bodies' ids."""
     kind, pos, ext = bodies.kind, bodies.pos, bodies.ext
-    ball_a, ball_b = kind[a] <= sk.BALL_3D, kind[b] <= sk.BALL_3D
+    ball_a, ball_b = kind[a] <= ps.BALL_3D, kind[b] <= ps.BALL_3D
     balls = ball_a & ball_b
     boxes = ~ball_a & ~ball_b
     mixed = ~balls & ~boxes
@@ -251,7 +252,7 @@ def _measure(bodies: BodyArrays, dims: int, a: IntArray, b: IntArray, slop: floa
             mixed,
             np.array(
                 [
-                    -sk._body_separation(kind, pos, ext, int(p), int(q))[0]
+                    -ps._body_separation(kind, pos, ext, int(p), int(q))[0]
                     for p, q in zip(a[mixed], b[mixed], strict=True)
                 ]
             ),

@@ -6,7 +6,7 @@ collision layer: this module reaches the shapes and the kernels' kind codes, not
 from __future__ import annotations
 
 from ..shapes import AABB, Circle, Line, Plane, Shape
-from . import step_kernels as sk
+from . import pair_separation as ps
 
 __all__ = ["Triple", "body_row", "static_row"]
 
@@ -21,17 +21,17 @@ def body_row(shape: Shape) -> tuple[int, Triple]:
     ((1.0, 2.0, 0.0), (0.5, 0.5, 0.5))
     """
     if isinstance(shape, AABB):
-        return (sk.BOX_2D if shape.dim == 2 else sk.BOX_3D), shape.half_size.as_tuple()
+        return (ps.BOX_2D if shape.dim == 2 else ps.BOX_3D), shape.half_size.as_tuple()
     if isinstance(shape, (Line, Plane)):
         raise TypeError(f"a {type(shape).__name__} cannot move: it is a static obstacle")
-    return (sk.BALL_2D if isinstance(shape, Circle) else sk.BALL_3D), (shape.radius,) * 3
+    return (ps.BALL_2D if isinstance(shape, Circle) else ps.BALL_3D), (shape.radius,) * 3
 
 
 def static_row(shape: Shape) -> tuple[int, Triple, Triple]:
     """A static shape's ``s_kind``, ``s_a`` and ``s_b``: a box's two corners, or a line's or
     plane's point and unit normal."""
     if isinstance(shape, AABB):
-        return sk.STATIC_BOX, shape.min_corner.as_tuple(), shape.max_corner.as_tuple()
+        return ps.STATIC_BOX, shape.min_corner.as_tuple(), shape.max_corner.as_tuple()
     if isinstance(shape, (Line, Plane)):
-        return sk.STATIC_BOUNDARY, shape.point.as_tuple(), shape.unit_normal.as_tuple()
+        return ps.STATIC_BOUNDARY, shape.point.as_tuple(), shape.unit_normal.as_tuple()
     raise TypeError(f"a {type(shape).__name__} cannot be a static obstacle")

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..model import Scenario
-from . import step_kernels as sk
+from . import pair_separation as ps
 from .shape_rows import body_row, static_row
 
 __all__ = ["BodyArrays", "StaticArrays", "bodies_of", "body_row", "static_names", "static_row", "statics_of"]
@@ -81,7 +81,7 @@ def statics_of(scenario: Scenario) -> StaticArrays:
             e[s] = obstacle.restitution
     for w, (_, point, normal) in enumerate(walls):
         s = len(obstacles) + w
-        kind[s], a[s], b[s] = sk.STATIC_WALL, point, normal
+        kind[s], a[s], b[s] = ps.STATIC_WALL, point, normal
     return StaticArrays(kind, a, b, e)
 
 

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from . import step_kernels
+from . import event_rows, step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
 
@@ -53,21 +53,21 @@ def max_cells(n: int) -> int:
 
 
 class EventRows:
-    """The event buffer a stepper's kernel fills (``step_kernels.EVENT_COLUMNS`` columns, grown
+    """The event buffer a stepper's kernel fills (``event_rows.EVENT_COLUMNS`` columns, grown
     by the kernel in a burst) and its count, read by the world after each call."""
 
     def __init__(self) -> None:
-        self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+        self._events = np.zeros((16, event_rows.EVENT_COLUMNS))
         self._event_count = np.zeros(2, np.int64)
 
     def events(self) -> NDArray[np.float64]:
-        """The event rows of the last :meth:`advance` (``step_kernels.EVENT_COLUMNS`` columns)."""
+        """The event rows of the last :meth:`advance` (``event_rows.EVENT_COLUMNS`` columns)."""
         return self._events[: int(self._event_count[0])]
 
     def release_events(self) -> None:
         """Let go of an event buffer grown by a burst (the rows have been read)."""
         if self._events.shape[0] > _EVENT_ROWS_KEPT:
-            self._events = np.zeros((16, step_kernels.EVENT_COLUMNS))
+            self._events = np.zeros((16, event_rows.EVENT_COLUMNS))
 
 
 class EulerStepper(EventRows):

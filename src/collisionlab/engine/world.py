@@ -37,7 +37,7 @@ from ..model import Scenario
 from ..numba_cache import compile_lock, gc_paused
 from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..vector import Vector3D
-from . import contact_kernels, exact_kernels, step_kernels
+from . import contact_kernels, event_rows, exact_kernels, pair_separation, step_kernels
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_stepper import ExactStepper
@@ -85,7 +85,7 @@ CHUNK_EVENT_ROWS = 1 << 20
 def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
     """How far something must travel to pass through each body (tunnelling check): a ball's
     diameter, a box's shortest edge."""
-    return np.where(kind <= step_kernels.BALL_3D, 2.0 * ext[:, 0], 2.0 * ext[:, :dims].min(axis=1))
+    return np.where(kind <= pair_separation.BALL_3D, 2.0 * ext[:, 0], 2.0 * ext[:, :dims].min(axis=1))
 
 
 class World:
@@ -330,7 +330,7 @@ class World:
     def _check_tunnelling(self) -> None:
         """Warn once when a body moves farther in one step than it takes to pass through
         something (Forward Euler then misses the collision). Lines, planes and walls are not such
-        things: a body that crosses one is put back on its side (step_kernels' ``_uncross``), a
+        things: a body that crosses one is put back on its side (euler_clamps' ``_uncross``), a
         body past a wall back inside; fixed boxes and other bodies are."""
         if self._tunnel_warned:
             return
@@ -343,7 +343,7 @@ class World:
         if float(speeds.max()) * dt <= self._thinnest:
             return
         found: tuple[int, int, float, float] | None = None
-        if np.any(self._statics.kind == step_kernels.STATIC_BOX):
+        if np.any(self._statics.kind == pair_separation.STATIC_BOX):
             over = speeds * dt > thick
             if np.any(over):
                 i = int(np.argmax(over))
@@ -513,11 +513,11 @@ class World:
         self._record_events(self._stepper.events())
 
     def _record_events(self, events: np.ndarray[Any, np.dtype[np.float64]]) -> None:
-        """The kernel's event rows (``step_kernels.EVENT_COLUMNS``) as an :class:`EventBlock` of
+        """The kernel's event rows (``event_rows.EVENT_COLUMNS``) as an :class:`EventBlock` of
         collisions and a list of :class:`SkippedContact`, recorded and told to the observer."""
         if events.shape[0] == 0:
             return
-        skipping = events[:, 0] == step_kernels.EVENT_SKIPPED
+        skipping = events[:, 0] == event_rows.EVENT_SKIPPED
         skipped = [
             SkippedContact(int(row[1]), row[2], self._pair_names(int(row[3]), int(row[4])), "separating")
             for row in events[skipping].tolist()
@@ -533,7 +533,7 @@ class World:
             approach_speed=rows[:, 11],
             impulse=rows[:, 12],
             restitution=rows[:, 13],
-            below_rest=(rows[:, 0] == step_kernels.EVENT_BELOW_REST).astype(np.int64),
+            below_rest=(rows[:, 0] == event_rows.EVENT_BELOW_REST).astype(np.int64),
             before_a=rows[:, 14:17],
             before_b=rows[:, 17:20],
             after_a=rows[:, 20:23],

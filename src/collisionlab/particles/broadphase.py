@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ..engine import step_kernels
+from ..engine import pair_separation
 from ..engine.stepper import CELLS_PER_BODY, max_cells, stencil
 from ..errors import InvalidInputError
 from .backend import engine_kernels, pick_backend
@@ -53,7 +53,7 @@ def grid_pairs(positions: object, radii: object, *, backend: str = "auto") -> ND
     """
     pos, rad = _as_balls(positions, radii)
     n, dim = pos.shape
-    kind = np.full(n, step_kernels.BALL_2D if dim == 2 else step_kernels.BALL_3D, np.int64)
+    kind = np.full(n, pair_separation.BALL_2D if dim == 2 else pair_separation.BALL_3D, np.int64)
     pos3 = np.zeros((n, 3))
     pos3[:, :dim] = pos
     ext = np.repeat(rad[:, None], 3, axis=1)

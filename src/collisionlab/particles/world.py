@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..engine import step_kernels
+from ..engine import pair_separation, step_kernels
 from ..engine.params import DEFAULT_PASSES, WorldParams
 from ..engine.state import BodyArrays, StaticArrays
 from ..engine.stepper import EulerStepper
@@ -144,7 +144,7 @@ class ParticleWorld:
         pos3[:, :dim] = pos
         vel3 = np.zeros((n, 3))
         vel3[:, :dim] = vel
-        kind = np.full(n, step_kernels.BALL_2D if dim == 2 else step_kernels.BALL_3D, np.int64)
+        kind = np.full(n, pair_separation.BALL_2D if dim == 2 else pair_separation.BALL_3D, np.int64)
         ext = np.repeat(rad[:, None], 3, axis=1)
         bodies = BodyArrays(kind, pos3, vel3, ext, ima, np.full(n, math.nan), np.arange(n, dtype=np.int64))
         walls = normals.shape[0]
@@ -153,7 +153,7 @@ class ParticleWorld:
         units = np.zeros((walls, 3))
         units[:, :dim] = normals
         statics = StaticArrays(
-            np.full(walls, step_kernels.STATIC_WALL, np.int64), points, units, np.full(walls, math.nan)
+            np.full(walls, pair_separation.STATIC_WALL, np.int64), points, units, np.full(walls, math.nan)
         )
         gravity3 = np.zeros(3)
         gravity3[:dim] = g
