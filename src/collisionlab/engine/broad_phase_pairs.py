@@ -2,8 +2,7 @@
 stepper's candidates too): each cell of the grid of :mod:`.broad_phase_grid` meets itself and half
 its neighbours, each of the larger bodies meets the cells its box covers and the other larger
 bodies, statics meet every body (:func:`_static_bounds_meet`); each candidate's separation
-(:mod:`.pair_separation`) is kept if nearer than ``contact_margin`` (:func:`_find_pairs`,
-:func:`_find_contacts`).
+(:mod:`.pair_separation`) is kept if nearer than ``contact_margin`` (:func:`_find_pairs`).
 
 It imports :mod:`.pair_separation` and :mod:`.broad_phase_grid`; it must not import the order,
 the impulses, the push-apart or any stepper's loop.
@@ -30,13 +29,7 @@ _WIDEN = 1.0 + BROADPHASE_WIDEN
 
 #: Helpers the compiled form inlines into their callers (:mod:`.compiled`): they take arrays, and a
 #: call that passes several numba arrays (each a struct of seven fields) costs more than the work inside.
-INLINE = ("_orient", "_static_bounds_meet")
-
-
-def _orient(ids: Any, i: int, j: int) -> bool:
-    """Whether the body pair ``(i, j)`` is A-B as the scenario orders pairs: the body given first
-    is A (a ball-box pair is computed ball first and flipped, exactly, as the scalar API does)."""
-    return bool(ids[i] < ids[j])
+INLINE = ("_static_bounds_meet",)
 
 
 def _static_bounds_meet(s_kind: Any, s_a: Any, s_b: Any, s: int, pos: Any, ext: Any, b: int, margin: float) -> bool:
@@ -56,58 +49,6 @@ def _static_bounds_meet(s_kind: Any, s_a: Any, s_b: Any, s: int, pos: Any, ext: 
     if s_kind[s] == ps.STATIC_BOUNDARY:
         side = abs(side)
     return bool(side <= reach + margin)
-
-
-def _find_contacts(
-    kind: Any,
-    pos: Any,
-    ext: Any,
-    ids: Any,
-    s_kind: Any,
-    s_a: Any,
-    s_b: Any,
-    dims: int,
-    lo: Any,
-    h: float,
-    shape: Any,
-    cell_start: Any,
-    stencil: Any,
-    ca: Any,
-    cb: Any,
-    cd: Any,
-    margin: float,
-) -> int:
-    """Every pair closer than ``margin``, bodies stored in cell order (the grid of
-    :func:`_grid_geometry` and :func:`_counting_sort`); returns how many (which may exceed the
-    buffers' capacity: the caller grows them and asks again). ``cd`` is the depth (minus the
-    separation)."""
-    none = np.zeros(0, np.int64)
-    return _find_pairs(
-        kind,
-        pos,
-        ext,
-        ids,
-        s_kind,
-        s_a,
-        s_b,
-        dims,
-        lo,
-        h,
-        shape,
-        0,
-        pos.shape[0],
-        cell_start,
-        stencil,
-        none,
-        ca,
-        cb,
-        cd,
-        np.zeros((0, 3)),
-        margin,
-        margin,
-        np.zeros(0),
-        0.0,
-    )
 
 
 def _find_pairs(
@@ -136,7 +77,9 @@ def _find_pairs(
     sweep: Any,
     base: float,
 ) -> int:
-    """:func:`_find_contacts` on the grid of :func:`_grid_plan` and :func:`_bucket_sort`: the
+    """Every pair closer than ``margin`` (a static and a body: ``static_margin``), on the grid of
+    :func:`_grid_plan` and :func:`_bucket_sort`; returns how many (which may exceed the buffers'
+    capacity: the caller grows them and asks again), ``cd`` the depth (minus the separation). The
     grid's cells (or, if ``buckets > 0``, its buckets, each body's cell in ``cell_key``) hold the
     bodies in slots ``0 : n_small``; each meets the bodies of its own cell after it and of the
     neighbour cells in ``stencil``, a row of consecutive cells (consecutive slots) at a time. The
@@ -289,7 +232,7 @@ def _find_pairs(
                         continue
                 a = i
                 b = j
-                if ids[i] >= ids[j]:  # as _orient: the body given first is A
+                if ids[i] >= ids[j]:  # the body given first is A
                     a = j
                     b = i
                 sep = ps._pair_sep(

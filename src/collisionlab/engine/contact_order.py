@@ -30,7 +30,7 @@ TIE_KEY_SIZE = 7
 
 #: Helpers the compiled form inlines into their callers (:mod:`.compiled`): they take arrays, and a
 #: call that passes several numba arrays (each a struct of seven fields) costs more than the work inside.
-INLINE = ("_lex_cmp", "_lex3", "_contact_cmp")
+INLINE = ("_lex3", "_contact_cmp")
 
 
 def _lex3(x0: float, y0: float, z0: float, x1: float, y1: float, z1: float) -> int:
@@ -42,11 +42,6 @@ def _lex3(x0: float, y0: float, z0: float, x1: float, y1: float, z1: float) -> i
     if z0 != z1:
         return -1 if z0 < z1 else 1
     return 0
-
-
-def _lex_cmp(pos: Any, i: int, j: int) -> int:
-    """-1, 0 or 1 as ``pos[i]`` is lexicographically before, equal to or after ``pos[j]``."""
-    return _lex3(pos[i, 0], pos[i, 1], pos[i, 2], pos[j, 0], pos[j, 1], pos[j, 2])
 
 
 def _contact_cmp(pos: Any, ca: Any, cb: Any, p: int, q: int) -> int:

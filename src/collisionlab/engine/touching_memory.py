@@ -1,7 +1,7 @@
 """Which contacts were touching at the end of the step before (the touching memory of
 :mod:`.step_kernels`): a pair's key that does not depend on storage (:func:`_key_of`,
-:func:`_pair_key`), and the contacts whose keys were kept, found in sorted keys or a hash table
-(:func:`_contains`, :func:`_mark_touching`; Knuth's multiplicative hash, ``_KEY_MIX``).
+:func:`_pair_key`), and the contacts whose keys were kept, found in a hash table
+(:func:`_mark_touching`; Knuth's multiplicative hash, ``_KEY_MIX``).
 
 It imports no other file of the engine; it must not import the impulses or any stepper's loop,
 which read what it marks.
@@ -20,7 +20,7 @@ _LOW_62 = 2**62 - 1
 
 #: Helpers the compiled form inlines into their callers (:mod:`.compiled`): they take arrays, and a
 #: call that passes several numba arrays (each a struct of seven fields) costs more than the work inside.
-INLINE = ("_pair_key", "_key_of", "_contains")
+INLINE = ("_pair_key", "_key_of")
 
 
 def _key_of(ka: int, kb: int, n: int) -> int:
@@ -34,18 +34,6 @@ def _pair_key(ca: Any, cb: Any, ids: Any, n: int, c: int) -> int:
     """A key for a contact that does not depend on storage: ids for bodies, ``n + s`` for statics."""
     a = ca[c]
     return _key_of(ids[a] if a >= 0 else n + (-1 - a), ids[cb[c]], n)
-
-
-def _contains(sorted_keys: Any, count: int, key: int) -> bool:
-    lo = 0
-    hi = count
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if sorted_keys[mid] < key:
-            lo = mid + 1
-        else:
-            hi = mid
-    return lo < count and sorted_keys[lo] == key
 
 
 def _mark_touching(
