@@ -86,7 +86,7 @@ def _heap_push(heap: Any, F: Any, IX: Any, K: Any, i: int) -> None:
     _sift_up(heap, F, IX, pos)
 
 
-@jit_call
+@jit_inline
 def _heap_delete(heap: Any, F: Any, IX: Any, K: Any, pos: int) -> None:
     size = K[K_HEAP] - 1
     K[K_HEAP] = size

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .compile import flag, jit, jit_call, prefetch
+from .compile import flag, jit, jit_call, jit_inline, prefetch
 from .layout import CELL, EDGE, NNB, P_CUT, P_INV_H, P_L, P_REACH, Q_DIM, Q_NC, Q_PERIODIC, C, X
 
 __all__ = ["CELL_FULL", "LIST_FULL", "build_all_lists", "fetch_cells", "nearest_image", "rebuild_list"]
@@ -157,7 +157,7 @@ def _set_centre(F: Any, P: Any, Q: Any, i: int) -> None:
         F[i, C + k] = x
 
 
-@jit_call
+@jit_inline
 def fetch_cells(P: Any, Q: Any, CI: Any, x: float, y: float, z: float) -> None:
     """Prefetch the first two lines of each cell around the point ``(x, y, z)`` (its count and
     first 7 bodies): where a body about to rebuild its list will look (see ``loop._fetch_ahead``,
