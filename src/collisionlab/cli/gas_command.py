@@ -255,6 +255,19 @@ def _kernels(args: argparse.Namespace) -> str:
     return alias
 
 
+def _no_memory(streams: Streams, n: int) -> int:
+    """The one line for a gas of ``n`` balls that this machine's memory cannot hold; status 1."""
+    streams.err(f"{_PROG}: --n: not enough memory for {n:,} balls")
+    return 1
+
+
+def _warn_if_gaining(streams: Streams, restitution: float) -> None:
+    """A warning when ``e > 1``: allowed (the lab's postlab asks what it does), but every collision
+    then adds kinetic energy."""
+    if restitution > 1.0:
+        streams.err(f"warning: restitution {restitution:g} > 1: every collision adds kinetic energy")
+
+
 def _bad_value(streams: Streams, err: InvalidInputError) -> int:
     streams.err(
         f"{_PROG}: {_FLAGS.get(err.field, err.field)}: {err.problem}"
@@ -425,10 +438,8 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
-        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
-        return 1
-    if gas.restitution > 1.0:
-        streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+        return _no_memory(streams, args.n)
+    _warn_if_gaining(streams, gas.restitution)
     bar = ProgressBar(streams, label="gas time")
     try:
         with deferred_interrupts() as pending:  # Ctrl-C is looked for while a chunk of the loop runs too
@@ -587,10 +598,8 @@ def _run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
-        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
-        return 1
-    if gas.restitution > 1.0:
-        streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+        return _no_memory(streams, args.n)
+    _warn_if_gaining(streams, gas.restitution)
     written = 0
 
     def save(energy_start: float, seconds: float) -> None:
@@ -671,10 +680,8 @@ def _run_mixture(
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
-        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
-        return 1
-    if gas.restitution > 1.0:
-        streams.err(f"warning: restitution {gas.restitution:g} > 1: every collision adds kinetic energy")
+        return _no_memory(streams, args.n)
+    _warn_if_gaining(streams, gas.restitution)
     bar = ProgressBar(streams, label="gas time")
     try:
         with deferred_interrupts() as pending:
@@ -739,10 +746,8 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
     except InvalidInputError as err:
         return _bad_value(streams, err)
     except MemoryError:
-        streams.err(f"{_PROG}: --n: not enough memory for {args.n:,} balls")
-        return 1
-    if restitution > 1.0:
-        streams.err(f"warning: restitution {restitution:g} > 1: every collision adds kinetic energy")
+        return _no_memory(streams, args.n)
+    _warn_if_gaining(streams, restitution)
     compile_seconds = interruptible(world.load_kernels)  # before the clock: compiling is not stepping
     if notes and not world.compiled:  # a first user may not know how much slower it is
         streams.err(f"{_PROG}: stepping with the kernels' Python form: far slower than numba (Ctrl-C stops it)")
