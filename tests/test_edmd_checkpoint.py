@@ -475,6 +475,30 @@ def _resigned(header: dict[str, Any], path: Path, target: Path, drop: str = "", 
     np.savez(target, header=np.frombuffer(json.dumps(header).encode(), dtype=np.uint8), **arrays)
 
 
+def test_a_mixture_whose_radii_disagree_is_refused(tmp_path: Path) -> None:
+    # A mixture's P holds each ball's radius after its parameters (the loop reads them there, and
+    # reads past a P without them): a P cut short, a flag that says one kind, or a radius that is
+    # not F's are refused, even with a valid checksum.
+    path = tmp_path / "mix.npz"
+    gas("--n", "100", "--dim", "2", "--time", "0.5", "--species", "a:0.5:1", "--species", "b:0.5:0.5",
+        "--checkpoint", str(path))  # fmt: skip
+    header = _header(path)
+    with np.load(path, allow_pickle=False) as members:
+        p = members["P"]
+    assert p.shape == (L.NP + 100,)
+    one_kind, other_radius = p.copy(), p.copy()
+    one_kind[L.P_MIXED] = 0.0
+    other_radius[L.P_RADII + 7] += 0.25
+    bad = tmp_path / "bad.npz"
+    for changed, says in (
+        (p[: L.NP], "array P has shape"),
+        (one_kind, "array P has shape"),
+        (other_radius, "mixture flag or radii disagree"),
+    ):
+        _resigned(header, path, bad, P=changed)
+        assert says in _refused(bad)
+
+
 def test_bad_observers_are_refused(observed: Path, tmp_path: Path) -> None:
     header = _header(observed)
     assert header["observer"]["k"] == 4 and header["observer"]["observe"] == ["rdf", "msd"]

@@ -353,12 +353,16 @@ def _check_arrays(arrays: dict[str, NDArray[Any]], gas: ExactGas, info: dict[str
     n, dim = checked.n, checked.dim
     if info.get("n") != n or info.get("dim") != dim:
         raise refuse("header's world and gas disagree on the number of balls or the dimension")
+    # A mixture's P goes on with each body's radius (layout.P_RADII), which the loop reads when
+    # P_MIXED says the radii differ: the flag, the length and the radii must agree with F.
+    p, f = arrays["P"], arrays["F"]
+    mixed = p.ndim == 1 and p.shape[0] > L.P_MIXED and p[L.P_MIXED] != 0.0
     shapes = {
         "F": (n, L.NF),
         "IX": (n, L.NI),
         "heap": (n,),
         "order": (n,),
-        "P": (L.NP + (n if arrays["P"].shape[0] > L.NP else 0),),
+        "P": (L.NP + (n if mixed else 0),),
         "Q": (L.NQ,),
         "G": (L.NG,),
         "K": (L.NK,),
@@ -366,6 +370,9 @@ def _check_arrays(arrays: dict[str, NDArray[Any]], gas: ExactGas, info: dict[str
     for name, shape in shapes.items():
         if arrays[name].shape != shape:
             raise refuse(f"array {name} has shape {arrays[name].shape}, expected {shape}")
+    radii = f[:, L.RADIUS]
+    if mixed != bool(radii.min() != radii.max()) or (mixed and not np.array_equal(p[L.P_RADII :], radii)):
+        raise refuse("array P's mixture flag or radii disagree with the balls' radii in F")
     nb, ci, ks, se, s = arrays["NB"], arrays["CI"], arrays["KS"], arrays["SE"], arrays["S"]
     counted = ks.shape[0]
     Q = arrays["Q"]
