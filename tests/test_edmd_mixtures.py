@@ -186,6 +186,18 @@ def test_a_mixture_denser_than_it_packs_is_refused_in_one_line() -> None:
     assert "Traceback" not in err
 
 
+def test_a_dense_mixture_in_too_narrow_a_periodic_box_is_refused_in_one_line() -> None:
+    # 20 balls of radii 1 and 0.5 at 0.6 in 2D: side sqrt(20 pi (1 + 1/4) / 2 / 0.6) = 8.09, and a
+    # periodic box must be 4 largest diameters (8) wide; at 0.65 it is 7.78: refused, not spread.
+    argv = ["--mode", "exact", "--n", "20", "--dim", "2", "--boundary", "periodic", "--time", "1"]
+    argv += ["--species", "big:0.5:1", "--species", "small:0.5:0.5"]
+    status, out, err = _cli([*argv, "--fraction", "0.65"])
+    assert status != 0 and out == "" and err.count("\n") == 1
+    assert err.startswith("collisionlab gas: --fraction: too dense to start this mixture: a periodic box must be")
+    status, _, _ = _cli([*argv, "--fraction", "0.6"])
+    assert status == 0
+
+
 # --- theory ------------------------------------------------------------------------------------
 def test_mixture_equations_reduce_to_one_kind_by_hand() -> None:
     for eta in (0.1, 0.3, 0.45):

@@ -270,7 +270,7 @@ class ExactGas:
         side = (volume / self.fraction) ** (1.0 / self.dim)
         # the lattice of balls of the largest radius in that box: its packing fraction
         as_largest = self.n * ball_volume(largest, self.dim) / side**self.dim
-        side = box_side(self.n, self.dim, as_largest, largest)
+        side = box_side(self.n, self.dim, as_largest, largest)  # the same side, as the lattice rounds it
         periodic = self.boundary == "periodic"
         try:
             return lattice(self.n, self.dim, as_largest, largest, periodic, self.seed), side

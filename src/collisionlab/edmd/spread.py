@@ -4,15 +4,15 @@ A lattice whose sites are one largest diameter apart holds a mixture only up to 
 fraction well below its fluid's range (a binary of radii 1 and 0.5, half of each by number, 3D:
 0.42, where the fluid goes on past 0.5). Denser mixtures start from that lattice laid in the
 box they must fill (its sites closer than the largest balls' diameter) and pushed apart: every
-pair of balls ``i, j`` closer than ``(r_i + r_j)(1 + gap / 2)`` is moved apart along the line
-of centres to ``(r_i + r_j)(1 + gap)``, each by half the way (the other half of the gap keeps a
-pair just parted from being moved again by its rounding), one pair after the other (a projection, as in position-based
-dynamics; Gauss-Seidel order, by the balls' numbers), until a sweep over every pair moves
-nothing. That sweep proves the result: its pairs were found from the positions it ends with.
-Walls keep each centre ``r_i (1 + gap / 2)`` from them (a centre nearer is put at ``r_i (1 +
-gap)``). The moves are deterministic (the same balls,
-box and order give the same bits). The start is a packing, not an equilibrium: the run's first
-collisions take it there, as they do the lattice.
+pair of balls ``i, j`` closer than ``(r_i + r_j)(1 + gap / 2)`` is moved apart along the line of
+centres to ``(r_i + r_j)(1 + gap)``, each by half the way (the other half of the gap keeps a pair
+just parted from being moved again by its rounding), one pair after the other (a projection, as
+in position-based dynamics; Gauss-Seidel order, by the balls' numbers), until a sweep over every
+pair moves nothing. That sweep proves the result: its pairs were found from the positions it
+ends with. Walls keep each centre ``r_i (1 + gap / 2)`` from them (a centre nearer is put at
+``r_i (1 + gap)``). The moves are deterministic (the same balls, box and order give the same
+bits). The start is a packing, not an equilibrium: the run's first collisions take it there, as
+they do the lattice.
 
 It owns :func:`spread_apart`; it imports only the package's compile options and must not import
 the world, the loop or the engine.
