@@ -9,6 +9,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 from pathlib import Path
 from typing import Any
 
@@ -269,3 +270,42 @@ def test_a_signal_noted_during_a_chunk_is_raised_in_the_waiting_thread() -> None
     finally:
         release.set()
     assert started.is_set()
+
+
+@pytest.mark.parametrize("name", ["SIGINT", "SIGTERM"])
+def test_a_signal_during_a_cold_compile_side_by_side_stops_every_compiling_process(tmp_path: Path, name: str) -> None:
+    # `collisionlab compile` on a cold cache compiles its long kinds in processes of their own, two
+    # at once: a signal to the command must stop them too, not leave them compiling for minutes.
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    command = [sys.executable, "-m", "collisionlab", "compile", "--jobs", "2"]
+    with subprocess.Popen(
+        command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env
+    ) as process:
+        assert process.stderr is not None
+        read_until(process.stderr.fileno(), b"event-driven gas (gas --mode exact)...", timeout=120)
+        children = _children(process.pid)
+        process.send_signal(getattr(signal, name))
+        status, err = finish(process, timeout=30)
+    assert len(children) == 2  # exact and event-driven, side by side
+    assert status == _STATUS[name]
+    assert err.decode().rstrip().endswith(_LINE[name]) and b"Traceback" not in err
+    for child in children:  # stopped and reaped by the command before it ended
+        with pytest.raises(ProcessLookupError):
+            os.kill(child, 0)
+
+
+def _children(pid: int) -> list[int]:
+    """The processes whose parent is ``pid`` (Linux's /proc), waiting up to 10 s for two."""
+    for _ in range(100):
+        found = []
+        for status in Path("/proc").glob("[0-9]*/stat"):
+            try:
+                fields = status.read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                found.append(int(status.parent.name))
+        if len(found) >= 2:
+            return found
+        time.sleep(0.1)
+    return found

@@ -17,7 +17,7 @@ from collections.abc import Callable
 from ..errors import InvalidInputError
 from .world import load_stepper_kernels
 
-__all__ = ["KERNEL_CHOICES", "KERNEL_KINDS", "compiled_choice", "load_kernels"]
+__all__ = ["KERNEL_CHOICES", "KERNEL_KINDS", "compiled_choice", "is_cached", "load_kernels"]
 
 #: ``--kernels``: ``auto`` lets the world choose by its expected cost (:data:`~.params.COMPILE_ABOVE`),
 #: ``python`` runs the kernels' Python form, ``compiled`` the numba form.
@@ -64,6 +64,29 @@ def _particles() -> None:
     from ..particles import warm_up
 
     warm_up()
+
+
+#: The kernel file and entry whose cached code tells whether a stepper's kernels are compiled.
+_ENTRIES = {
+    "euler": ("step_kernels", "run_steps"),
+    "exact": ("exact_kernels", "run_exact_steps"),
+    "solve": ("contact_kernels", "run_contact_steps"),
+}
+
+
+def is_cached(kind: str) -> bool:
+    """Whether numba's cache seems to hold the kernels of ``kind`` (one of :data:`KERNEL_KINDS`)
+    already: loading them then takes well under a second. A guess from the cache's index files
+    (``particles`` and the output writers' kernel compile in a second or two: always False)."""
+    if kind in _ENTRIES:
+        from . import compiled
+
+        return compiled.is_cached(*_ENTRIES[kind])
+    if kind == "event-driven":
+        from ..edmd import compile as edmd_compile
+
+        return edmd_compile.is_cached()
+    return False
 
 
 def load_kernels(kind: str, notify: Callable[[str], None] | None = None) -> float:
