@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import io
 import re
+import subprocess
 
 import pytest
 
@@ -43,6 +44,9 @@ class _Fake:
     def terminate(self) -> None:
         self.log.append(f"terminate {self.kind}")
 
+    def kill(self) -> None:
+        self.log.append(f"kill {self.kind}")
+
     def wait(self, timeout: float | None = None) -> int:
         return -15
 
@@ -78,3 +82,21 @@ def test_a_failing_kind_stops_the_others_and_says_its_last_line() -> None:
 def _streams() -> tuple[Streams, io.StringIO, io.StringIO]:
     out, err = io.StringIO(), io.StringIO()
     return Streams(stdin=io.StringIO(), stdout=out, stderr=err, interactive=False, err_terminal=False), out, err
+
+
+class _Deaf(_Fake):
+    """A compiling process that does not end on SIGTERM."""
+
+    def wait(self, timeout: float | None = None) -> int:
+        if timeout is not None:
+            raise subprocess.TimeoutExpired("collisionlab compile --only exact", timeout)
+        return -9
+
+
+def test_a_process_deaf_to_sigterm_is_killed_rather_than_left_compiling() -> None:
+    log: list[str] = []
+    streams, _, _ = _streams()
+    children = {"exact": lambda: _Deaf("exact", 5, 0, log), "solve": lambda: _Fake("solve", 1, 1, log)}
+    with pytest.raises(CollisionLabError):
+        compile_side_by_side(["exact", "solve"], 2, streams, lambda k: children[k]())
+    assert log[-2:] == ["terminate exact", "kill exact"]

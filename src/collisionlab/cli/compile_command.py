@@ -48,6 +48,8 @@ _LONG = ("exact", "event-driven", "solve", "euler")
 #: Seconds between two looks at the processes compiling side by side (a signal is handled within
 #: one look).
 _LOOK = 0.1
+#: Seconds a compiling process is given to end after SIGTERM before it is killed.
+_GRACE = 5.0
 
 
 class _Child(Protocol):
@@ -60,6 +62,8 @@ class _Child(Protocol):
     def communicate(self) -> tuple[str, str]: ...
 
     def terminate(self) -> None: ...
+
+    def kill(self) -> None: ...
 
     def wait(self, timeout: float | None = None) -> int: ...
 
@@ -155,7 +159,11 @@ def compile_side_by_side(
         for child, _ in running.values():
             child.terminate()
         for child, _ in running.values():
-            child.wait()
+            try:
+                child.wait(timeout=_GRACE)
+            except subprocess.TimeoutExpired:  # deaf to SIGTERM: not left compiling
+                child.kill()
+                child.wait()
 
 
 def _compile(args: argparse.Namespace, streams: Streams) -> int:
