@@ -409,6 +409,48 @@ def test_load_kernels_ahead_changes_nothing_of_the_run(mode: str, contacts: str)
     assert first.frames[-1].to_dict() == second.frames[-1].to_dict()
 
 
+def test_a_compile_announced_is_said_to_be_done_and_a_load_says_nothing(monkeypatch: pytest.MonkeyPatch) -> None:
+    # Issue 28: "a command that still has to compile says so ... and says when it is done". The
+    # world that compiles (here a stand-in that announces a compile, or not, as a world does at
+    # its first compiled call) is the one load_stepper_kernels steps.
+    from collisionlab.engine import world as engine_world
+
+    class Compiling:
+        def __init__(self, scenario: Scenario, params: WorldParams, notify: object, events: bool) -> None:
+            self.notify = notify
+
+        def step(self, steps: int) -> None:
+            if callable(self.notify) and announce:
+                self.notify("compiling the engine's kernels (once per machine; about a minute)...")
+
+    monkeypatch.setattr(engine_world, "World", Compiling)
+    monkeypatch.setattr(engine_world, "_LOADED", set())
+    said: list[str] = []
+    announce = True
+    engine_world.load_stepper_kernels("euler", said.append)
+    assert said[0].startswith("compiling the engine's kernels")
+    assert re.fullmatch(r"compiled the engine's kernels in \d+ s", said[1]) and len(said) == 2
+    said.clear()
+    announce = False  # loaded from the cache: nothing to say
+    engine_world.load_stepper_kernels("exact", said.append)
+    assert said == []
+
+
+def test_the_event_driven_compile_is_said_to_be_done(monkeypatch: pytest.MonkeyPatch) -> None:
+    from collisionlab.edmd import compile as edmd_compile
+    from collisionlab.engine import ahead
+
+    monkeypatch.setattr(edmd_compile, "is_cached", lambda: False)  # as on a machine's first run
+    said: list[str] = []
+    ahead._event_driven(said.append)
+    assert said[0].startswith("compiling the event-driven kernels (once per machine;")
+    assert re.fullmatch(r"compiled the event-driven kernels in \d+ s", said[1]) and len(said) == 2
+    monkeypatch.setattr(edmd_compile, "is_cached", lambda: True)
+    said.clear()
+    ahead._event_driven(said.append)
+    assert said == []
+
+
 def test_load_kernels_of_an_unknown_kind_names_it() -> None:
     from collisionlab.engine.ahead import load_kernels
     from collisionlab.errors import InvalidInputError

@@ -50,14 +50,18 @@ def _event_driven(notify: Callable[[str], None] | None) -> None:
     from ..edmd.observables import ExactGas, Species
     from ..edmd.structure import pair_histogram
 
-    if notify is not None and not is_cached():
+    compiling = notify is not None and not is_cached()
+    if notify is not None and compiling:
         notify(f"compiling the event-driven kernels (once per machine; {COMPILE_TAKES})...")
+    started = time.perf_counter()
     world = ExactGas(n=20, dim=2, fraction=0.1, time=0.1, boundary="periodic").world()
     world.run(0.1)
     pos, _ = world.state()
     pair_histogram(pos, np.zeros(len(pos), dtype=np.int64), 1, world.sides, 0.1, np.zeros((1, 4), dtype=np.int64))
     dense_binary = (Species("a", 0.5, 1.0), Species("b", 0.5, 0.5))  # too dense for a lattice: spread apart
     ExactGas(n=20, dim=2, fraction=0.6, time=0.1, boundary="walls", species=dense_binary).world()
+    if notify is not None and compiling:  # the wait announced is over
+        notify(f"compiled the event-driven kernels in {time.perf_counter() - started:.0f} s")
 
 
 def _particles() -> None:
@@ -91,8 +95,8 @@ def is_cached(kind: str) -> bool:
 
 def load_kernels(kind: str, notify: Callable[[str], None] | None = None) -> float:
     """Load the compiled kernels of ``kind`` (one of :data:`KERNEL_KINDS`) from numba's cache,
-    or compile them (``notify`` is then told so, once); returns the seconds it took, 0.0 when
-    this process has loaded them already."""
+    or compile them (``notify`` is then told so, once, and told again when the compile is done);
+    returns the seconds it took, 0.0 when this process has loaded them already."""
     if kind not in KERNEL_KINDS:
         raise InvalidInputError("kind", f"must be one of {', '.join(KERNEL_KINDS)}", got=kind)
     if kind in _loaded:

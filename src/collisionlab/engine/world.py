@@ -750,10 +750,11 @@ _LOADED: set[str] = set()
 
 def load_stepper_kernels(kind: str, notify: Callable[[str], None] | None = None) -> float:
     """Load the compiled kernels of one stepper, ``kind`` ``"euler"``, ``"exact"`` or
-    ``"solve"``, from numba's cache, or compile them (``notify`` is then told so, once), by
-    stepping the lab's bouncing ball twice in that mode; returns the seconds it took, 0.0 when
-    this process has loaded them already. (Here rather than in :mod:`.ahead`, which loads every
-    kind of kernel: a world loading its own kernels reaches nothing above the engine.)"""
+    ``"solve"``, from numba's cache, or compile them (``notify`` is then told so, once, and
+    again when the compile is done, with the seconds it took), by stepping the lab's bouncing
+    ball twice in that mode; returns the seconds it took, 0.0 when this process has loaded them
+    already. (Here rather than in :mod:`.ahead`, which loads every kind of kernel: a world loading
+    its own kernels reaches nothing above the engine.)"""
     from ..demos import load_demo
     from .params import WorldParams
 
@@ -763,6 +764,16 @@ def load_stepper_kernels(kind: str, notify: Callable[[str], None] | None = None)
     mode, contacts = {"euler": ("euler", "events"), "exact": ("exact", "events"), "solve": ("exact", "solve")}[kind]
     settings = {"mode": mode} if contacts == "events" else {"mode": mode, "contacts": contacts}
     scenario = load_demo("bouncing-ball").with_settings(**settings)
-    World(scenario, WorldParams(compiled=True), notify=notify, events=False).step(2)
+    said: list[str] = []
+
+    def tell(text: str) -> None:
+        said.append(text)
+        if notify is not None:
+            notify(text)
+
+    World(scenario, WorldParams(compiled=True), notify=tell, events=False).step(2)
     _LOADED.add(kind)
-    return time.perf_counter() - started
+    took = time.perf_counter() - started
+    if notify is not None and said:  # it compiled: the wait announced is over
+        notify(f"compiled the engine's kernels in {took:.0f} s")
+    return took
