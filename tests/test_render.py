@@ -313,3 +313,29 @@ def test_the_writers_say_once_that_their_kernel_compiles(
         assert len(json.loads(out.getvalue())["events"]) == record.collision_count
     else:
         assert out.getvalue().count("collision at step") == record.collision_count
+
+
+@pytest.mark.parametrize("fmt", ["json", "table"])
+def test_the_writers_say_when_their_kernel_has_compiled(monkeypatch: pytest.MonkeyPatch, fmt: str) -> None:
+    # Issue 28: a command that has to compile says when it is done. The cache holds the kernel
+    # once the first block has been laid out by it (a stand-in: not cached at the notice, cached
+    # after): the notice, then one line with the seconds it took, then nothing more.
+    import numba  # noqa: F401  (the table uses the kernel only once numba is loaded)
+
+    from collisionlab import text_kernels
+    from collisionlab.cli import render
+    from collisionlab.engine.world import World
+
+    asked: list[bool] = []
+
+    def is_cached() -> bool:
+        asked.append(True)
+        return len(asked) > 1  # the notice's question: no; every later one: yes
+
+    monkeypatch.setattr(text_kernels, "is_cached", is_cached)
+    monkeypatch.setattr(render, "_COMPILED_EVENTS", 1)
+    told: list[str] = []
+    writer = render.writer_for(fmt, io.StringIO(), notify=told.append)
+    World(load_demo("bouncing-ball")).run(observer=writer, keep=False)
+    assert told[0] == COMPILE_NOTICE
+    assert re.fullmatch(r"compiled the output writers' text kernel in \d+ s", told[1]) and len(told) == 2

@@ -10,6 +10,7 @@ import json
 import math
 import sys
 import tempfile
+import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import IO, Any, TextIO
 
@@ -304,10 +305,27 @@ def summary_lines(record: RunRecord) -> list[str]:
     return lines
 
 
-def _say_compiling(notify: Callable[[str], None] | None) -> None:
-    """Tell ``notify`` that the text kernel compiles, when numba's cache does not hold it."""
-    if notify is not None and not text_kernels.is_cached():
-        notify(COMPILE_NOTICE)
+class _TextCompile:
+    """What a writer says of the text kernel's compile (through ``notify``): that it compiles,
+    once, before its first use when numba's cache does not hold it (:meth:`say`), and that it
+    is done, with the seconds it took, once the cache holds it (:meth:`done`, called after each
+    use: a block too small for the compiled kernel leaves it uncompiled, and nothing is said)."""
+
+    def __init__(self, notify: Callable[[str], None] | None) -> None:
+        self._notify = notify
+        self._began: float | None = None
+
+    def say(self) -> None:
+        if self._notify is not None and self._began is None and not text_kernels.is_cached():
+            self._notify(COMPILE_NOTICE)
+            self._began = time.perf_counter()
+        elif self._began is None:
+            self._notify = None  # loaded from the cache (or nobody listens): nothing to say, ever
+
+    def done(self) -> None:
+        if self._notify is not None and self._began is not None and text_kernels.is_cached():
+            self._notify(f"compiled the output writers' text kernel in {time.perf_counter() - self._began:.0f} s")
+            self._notify = None
 
 
 class TableWriter:
@@ -325,7 +343,7 @@ class TableWriter:
         notify: Callable[[str], None] | None = None,
     ) -> None:
         self._out, self._every, self._quiet, self._explain = out, every, quiet, explain
-        self._notify = notify  # hears that the text kernel compiles (once per machine)
+        self._text = _TextCompile(notify)  # says that the text kernel compiles (once per machine)
         self._dims = 3
         self._steps = 0
         self._pending: list[tuple[int, str]] = []  # (step, its lines) not yet written
@@ -359,8 +377,9 @@ class TableWriter:
     def events(self, events: Sequence[CollisionEvent], skipped: Sequence[SkippedContact], reached: int) -> None:
         by_step: dict[int, list[str]] = {}
         if isinstance(events, EventBlock) and not self._explain:  # a world's events: from their columns
-            for step, text in _block_texts(events, self._dims, self._compiling):
+            for step, text in _block_texts(events, self._dims, self._text.say):
                 by_step.setdefault(step, []).append(text)
+            self._text.done()
         else:
             for event in events:
                 lines = _event_lines(event, self._dims, self._explain)
@@ -370,11 +389,6 @@ class TableWriter:
                 by_step.setdefault(skip.step, []).append(_skip_line(skip) + "\n")
         self._pending += sorted(((step, "".join(texts)) for step, texts in by_step.items()), key=lambda item: item[0])
         self._flush(reached)
-
-    def _compiling(self) -> None:
-        """Before the text kernel's first use: say once that it compiles, if it will."""
-        _say_compiling(self._notify)
-        self._notify = None
 
     def warning(self, text: str) -> None:
         self._out.write(f"warning: {text}\n")
@@ -457,7 +471,7 @@ class JsonWriter:
 
     def __init__(self, out: TextIO, every: int = 1, notify: Callable[[str], None] | None = None) -> None:
         self._out, self._every = out, every
-        self._notify = notify  # hears that the JSON layout kernel compiles (once per machine)
+        self._text = _TextCompile(notify)  # says that the JSON layout kernel compiles (once per machine)
         self._steps = 0
         self._frames = 0
         self._spools: dict[str, tuple[IO[bytes], list[int]]] = {}  # each with the pieces written to it
@@ -485,14 +499,14 @@ class JsonWriter:
             spool, written = self._spools[key]
             # Each item after ",\n  ", the first of all after "\n  " (the list's first line).
             if isinstance(items, EventBlock):  # a world's events: written from their columns
-                _say_compiling(self._notify)
-                self._notify = None
+                self._text.say()
                 chunks: Iterable[bytes | memoryview] = items.json_chunks(",\n  ")
             else:
                 chunks = ["".join(",\n  " + _dumps_item(item) for item in items).encode()]
             for text in chunks:
                 spool.write(text if written[0] else text[1:])
                 written[0] += 1
+            self._text.done()
 
     def warning(self, text: str) -> None:
         pass  # the record's warnings are written at the end
