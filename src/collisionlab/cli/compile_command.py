@@ -5,9 +5,10 @@ stdout.
 
 The kinds that are not in the cache yet compile side by side, one process each, as many at once
 as ``--jobs`` (by default as many as the machine has cores, at most 4): numba compiles in one
-thread, and the kinds share nothing but the cache, where each writes files of its own (and a
-kernel two of them need is compiled under a lock, by one, and loaded by the other). The longest
-first, so that the last to end is a short one (bench/README.md has each kind's time)."""
+thread, and the kinds share nothing but the cache. A helper two kinds call is compiled by
+whichever comes to it first and loaded by the other if its files are written by then (or
+compiled by both); numba writes each cache file whole, to a temporary name it then renames. The
+longest first, so that the last to end is a short one (bench/README.md has each kind's time)."""
 
 from __future__ import annotations
 
@@ -40,9 +41,9 @@ _SERVES = {
 #: Every step of the command, in the order of its progress lines' numbers.
 _STEPS = (*KERNEL_KINDS, "text")
 
-#: The kinds whose compile takes minutes, longest first (on 2 cores: exact 116 s, event-driven 81,
-#: solve 55, Euler 40); the others take a second or two and run in this process, after them (the
-#: text kernel is compiled by a compiled Euler run, so it waits for Euler's kernels anyway).
+#: The kinds whose compile takes minutes, longest first (bench/README.md, ``collisionlab compile``);
+#: the others take a second or two and run in this process, after them (the text kernel is
+#: compiled by a compiled Euler run, so it waits for Euler's kernels anyway).
 _LONG = ("exact", "event-driven", "solve", "euler")
 
 #: Seconds between two looks at the processes compiling side by side (a signal is handled within
