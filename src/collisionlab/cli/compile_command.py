@@ -24,7 +24,7 @@ from typing import Any, Protocol
 
 from ..engine.ahead import KERNEL_KINDS, is_cached, load_kernels
 from ..errors import CollisionLabError
-from .interrupts import interruptible
+from .interrupts import deferred_interrupts, interruptible
 from .streams import Streams
 
 __all__ = ["add_parser", "compile_side_by_side"]
@@ -137,34 +137,39 @@ def compile_side_by_side(
 ) -> None:
     """Compile ``kinds`` in that order, up to ``jobs`` at once, a process each (``launch``); a line
     on stderr as each starts and as each ends. A process that fails stops the rest, and its
-    stderr is raised as the error; so does a signal (the processes are stopped first)."""
+    stderr is raised as the error; so does a signal (the processes are stopped first). Signals
+    are only noted while a process starts, and raised between two looks: one raised inside
+    :class:`subprocess.Popen`, after its fork, would leave that process compiling unknown."""
     waiting = list(kinds)
     running: dict[str, tuple[_Child, float]] = {}
-    try:
-        while waiting or running:
-            while waiting and len(running) < jobs:
-                kind = waiting.pop(0)
-                streams.err(f"{_label(kind)}: {_SERVES[kind]}...")
-                running[kind] = (launch(kind), time.perf_counter())
-            time.sleep(_LOOK)
-            for kind, (child, began) in list(running.items()):
-                if child.poll() is None:
-                    continue
-                del running[kind]
-                out, err = child.communicate()
-                if child.returncode != 0:
-                    said = (err.strip() or out.strip() or f"exit status {child.returncode}").splitlines()[-1]
-                    raise CollisionLabError(f"compiling the {kind} kernels failed: {said}")
-                streams.err(f"{_label(kind)}: {time.perf_counter() - began:.1f} s")
-    finally:
-        for child, _ in running.values():
-            child.terminate()
-        for child, _ in running.values():
-            try:
-                child.wait(timeout=_GRACE)
-            except subprocess.TimeoutExpired:  # deaf to SIGTERM: not left compiling
-                child.kill()
-                child.wait()
+    with deferred_interrupts() as pending:
+        try:
+            while waiting or running:
+                while waiting and len(running) < jobs:
+                    kind = waiting.pop(0)
+                    streams.err(f"{_label(kind)}: {_SERVES[kind]}...")
+                    running[kind] = (launch(kind), time.perf_counter())
+                    pending.check()
+                time.sleep(_LOOK)
+                pending.check()
+                for kind, (child, began) in list(running.items()):
+                    if child.poll() is None:
+                        continue
+                    del running[kind]
+                    out, err = child.communicate()
+                    if child.returncode != 0:
+                        said = (err.strip() or out.strip() or f"exit status {child.returncode}").splitlines()[-1]
+                        raise CollisionLabError(f"compiling the {kind} kernels failed: {said}")
+                    streams.err(f"{_label(kind)}: {time.perf_counter() - began:.1f} s")
+        finally:  # (a second signal is only noted: the processes are stopped all the same)
+            for child, _ in running.values():
+                child.terminate()
+            for child, _ in running.values():
+                try:
+                    child.wait(timeout=_GRACE)
+                except subprocess.TimeoutExpired:  # deaf to SIGTERM: not left compiling
+                    child.kill()
+                    child.wait()
 
 
 def _compile(args: argparse.Namespace, streams: Streams) -> int:
