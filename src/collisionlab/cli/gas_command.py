@@ -131,7 +131,12 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[
     parser.add_argument(
         "--backend", choices=BACKENDS, default=None, help="the older name of --kernels (numba: compiled)"
     )
-    parser.add_argument("--plot", metavar="FILE.png", help="write the speed distribution against Maxwell-Boltzmann")
+    parser.add_argument(
+        "--plot",
+        metavar="FILE.png",
+        help="write the speed distribution against Maxwell-Boltzmann; with --mode exact, the last frame "
+        "(each species its colour) beside each species' speeds (.png, .svg, .pdf or .gif)",
+    )
     parser.add_argument("--format", choices=("table", "json"), default="table", help="output (default table)")
     parser.add_argument(
         "--trajectory",
@@ -307,6 +312,8 @@ def _exact_table(report: dict[str, Any]) -> list[str]:
     if report.get("events_file"):
         lines.append(f"  events           {report['events_file']}")
     lines += _trajectory_line(report)
+    if report.get("plot"):
+        lines.append(f"  plot             {report['plot']}")
     return lines
 
 
@@ -415,8 +422,10 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
     try:
         if args.checkpoint_every is not None:
             raise InvalidInputError("checkpoint_every", "needs --checkpoint FILE (or --resume FILE)")
-        if args.plot is not None:
-            raise InvalidInputError("plot", "is not available with --mode exact")
+        if args.plot is not None:  # the path checked before the run (matplotlib loads only for a plot)
+            from ..plotting.balls import check_balls_plot_path
+
+            check_balls_plot_path(args.plot)
         species = tuple(parse_species(text) for text in args.species or ())
         observe = _observe_checked(args)
         gas = _exact_gas(args, species).checked()
@@ -460,7 +469,42 @@ def _run_exact(args: argparse.Namespace, streams: Streams) -> int:
         return _cannot_write(streams, args, err)
     finally:
         bar.close()
+    if args.plot is not None:
+        d = gas.dim
+        state = (world.position_array[:, :d], world.velocity_array[:, :d])
+        if not _plot_balls(args, streams, gas, state, types, tuple(float(x) for x in side), report):
+            return 1
     return _emit(args, streams, report)
+
+
+def _plot_balls(
+    args: argparse.Namespace,
+    streams: Streams,
+    gas: Any,
+    state: tuple[Any, Any],
+    types: Any,
+    sides: tuple[float, ...],
+    report: dict[str, Any],
+) -> bool:
+    """``--plot`` of an event-driven gas: its last frame, species coloured, and its speeds
+    (:func:`~collisionlab.plotting.balls.save_balls_plot`); False (said in one line) if the file
+    cannot be written."""
+    import numpy as np
+
+    from ..plotting.balls import save_balls_plot
+
+    positions, velocities = (np.asarray(a, dtype=np.float64) for a in state)
+    if gas.boundary == "periodic":  # each centre shown in the box, as the trajectory has it
+        positions = np.mod(positions, np.asarray(sides))
+    balls = "discs" if gas.dim == 2 else "spheres"
+    title = f"{gas.n:,} {balls} in {gas.dim}D ({gas.boundary}), packing fraction {gas.fraction:g}, t = {gas.time:g}"
+    try:
+        save_balls_plot(args.plot, positions, velocities, types.radii, types.ids, types.names, sides, title)
+    except OSError as err:
+        streams.err(f"{_PROG}: --plot: cannot write {args.plot}: {err.strerror or err}")
+        return False
+    report["plot"] = args.plot
+    return True
 
 
 #: What a resumed run may change (the rest is the checkpoint's), for the messages.
@@ -706,6 +750,9 @@ def _run_mixture(
         return _cannot_write(streams, args, err)
     finally:
         bar.close()
+    plotted = args.plot is None or _plot_balls(args, streams, gas, balls.state(), trajectory_types(gas), sides, report)
+    if not plotted:
+        return 1
     return _emit(args, streams, report)
 
 
