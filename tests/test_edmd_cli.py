@@ -104,7 +104,7 @@ def test_more_events_than_one_buffer(tmp_path: Path) -> None:
         (["--tc", "-1"], "--tc"),
         (["--events", "out.txt"], "--events"),
         (["--gravity", "1", "--boundary", "periodic"], "--gravity"),
-        (["--plot", "x.png"], "--plot"),
+        (["--plot", "x.txt"], "--plot"),  # (a picture of the balls: .png, .svg, .pdf or .gif)
         (["--n", "0"], "--n"),
         # The range every scenario has (found by the fuzz suite: e = 1e308 ran for ever).
         (["--restitution", "1e308"], "--restitution"),

@@ -94,6 +94,7 @@ def test_is_cached_asks_about_the_kernel_to_be_called(tmp_path: Path, monkeypatc
     """An exact world's check of overlaps calls find_near: whether run_steps is cached says
     nothing about it (a machine may never have run a large Forward Euler world)."""
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(compiled, "_started", [])  # its stale-code sweep, on this folder only
     folder = numba_cache._cache_folder(Path(compiled.__file__).resolve().parent)
     folder.mkdir(parents=True)
     (folder / "step_kernels.find_near-2101.py311.nbi").write_bytes(b"")
@@ -101,6 +102,18 @@ def test_is_cached_asks_about_the_kernel_to_be_called(tmp_path: Path, monkeypatc
     assert not compiled.is_cached("step_kernels", "run_steps")
     assert not compiled.is_cached("exact_kernels", "run_exact_steps")
     assert not compiled.is_cached("exact_kernels", "find_near")  # another file's function
+
+
+def test_is_cached_drops_stale_cached_code_before_it_answers(monkeypatch: pytest.MonkeyPatch) -> None:
+    # After a kernel file changed, its old index files still stood when `collisionlab compile`
+    # asked which kinds to compile side by side: it took them for cached, then compiled them one
+    # after another in its own process (256 s instead of about 100). The stale code must go first.
+    swept: list[bool] = []
+    monkeypatch.setattr(compiled, "_started", [])
+    monkeypatch.setattr(compiled, "_forget_stale", lambda: swept.append(True))
+    compiled.is_cached("exact_kernels", "run_exact_steps")
+    compiled.is_cached("step_kernels", "run_steps")
+    assert swept == [True]  # once per process, before the first answer
 
 
 def test_each_kernel_file_is_handed_the_compiled_files_it_imports() -> None:

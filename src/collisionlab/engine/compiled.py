@@ -108,6 +108,7 @@ _IMPORTS: dict[str, tuple[str, ...]] = {
         "exact_rest",
     ),
     "exact_impacts": (
+        "geometry_kernels",
         "pair_separation",
         "event_rows",
         "event_heap",
@@ -268,6 +269,7 @@ def is_cached(stem: str, entry: str) -> bool:
     """Whether numba's on-disk cache seems to hold the kernel ``entry`` of the file ``stem``
     (``"step_kernels"``, ``"run_steps"``) already: its first call then loads it in well under a
     second instead of compiling it. A guess from the cache's index file of that function itself
-    (the kernels it calls are compiled into its machine code)."""
-    use_user_cache()
+    (the kernels it calls are compiled into its machine code), once stale cached code is dropped
+    (:func:`_start`): a kernel file changed since is not cached, whatever its old files say."""
+    _start()
     return any(f.name.startswith(f"{stem}.{entry}-") for f in cache_files(_HERE))

@@ -140,7 +140,7 @@ def _flight(
             else:
                 static_impulse[-1 - a, k] += j * sep[1 + k]
         ledger[1] += 0.5 * kinetic
-        ledger[3] -= 0.5 * (1.0 - e * e) * vn * vn / inv_sum
+        ledger[3] -= gk.collision_loss(vn, inv_sum, e)
         ledger[5 if a >= 0 else 6] += 1.0
         status[1] += 1
         if record:

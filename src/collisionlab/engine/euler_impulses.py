@@ -163,7 +163,7 @@ def _impulses(
             kinetic_after += (vel[b, 0] * vel[b, 0] + vel[b, 1] * vel[b, 1] + vel[b, 2] * vel[b, 2]) / ima[b]
             changed[b] = tick
         ledger[1] += 0.5 * (kinetic_after - kinetic_before)
-        ledger[3] -= 0.5 * (1.0 - e * e) * vn * vn / inv_sum
+        ledger[3] -= gk.collision_loss(vn, inv_sum, e)
         if a >= 0:
             ledger[5] += 1.0
         else:

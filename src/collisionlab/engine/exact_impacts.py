@@ -22,6 +22,7 @@ from typing import Any
 from ..tolerances import MAX_RUN_SPEED
 
 if "_EVENT_ROWS" in globals():  # the compiled copy: the kernels it calls are compiled too
+    gk: Any = globals()["_GEOMETRY"]
     evr: Any = globals()["_EVENT_ROWS"]
     ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
@@ -40,6 +41,7 @@ else:
     from . import exact_settle as st
     from . import exact_sweeps as es
     from . import exact_time_of_impact as et
+    from . import geometry_kernels as gk
     from . import pair_separation as ps
 
 #: The most impacts resolved within one step; past it the step ends without the rest (a guard
@@ -288,8 +290,9 @@ def _impacts(
             pressing = 0.0
             for k in range(3):
                 pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
-            below = -vn < rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
-            e = 0.0 if below else e_pair
+            threshold = rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
+            below = -vn < threshold
+            e = gk.applied_restitution(vn, e_pair, threshold)
             j = ej._kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
             status[1] += 1
             for k in range(3):  # (not <=: NaN too)

@@ -95,7 +95,7 @@ def _kick(
         if a >= 0:
             u += vel[a, 0] * ax + vel[a, 1] * ay + vel[a, 2] * az
         gained = j * u + 0.5 * j * j * (energy_a + energy_b)
-        if gained <= max(0.0, 0.5 * (e * e - 1.0) * vn * vn / inv_sum):
+        if gained <= max(0.0, -gk.collision_loss(vn, inv_sum, e)):
             break
     kinetic = 0.0
     if a >= 0 and ima[a] > 0.0:
@@ -112,7 +112,7 @@ def _kick(
         kinetic += 0.5 * (vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2 - before) / ima[b]
     ledger[1] += kinetic
     if impact:
-        ledger[3] -= 0.5 * (1.0 - e * e) * vn * vn / inv_sum
+        ledger[3] -= gk.collision_loss(vn, inv_sum, e)
         if a >= 0:
             ledger[5] += 1.0
         else:

@@ -176,7 +176,7 @@ def _settle(
                 if gk.first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
                     continue
             e2_pair = ps._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
-            e_2 = 0.0 if -vn2 < rest_speed else e2_pair
+            e_2 = gk.applied_restitution(vn2, e2_pair, rest_speed)
             j2 = ej._kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
             if j2 == 0.0:
                 continue
