@@ -45,6 +45,7 @@ COLLISION_LAYER = (
     "collisionlab.tolerances",
     "collisionlab.validate",
     "collisionlab.textformat",  # how Vector3D writes its numbers
+    "collisionlab.sums",  # exactly rounded sums (the ledger's energies, any machine alike)
     "collisionlab.engine.geometry_kernels",  # the narrow phase and contact law as scalar kernels
     "collisionlab.toi",  # times of impact, through the exact stepper's kernels
     "collisionlab.engine.shape_rows",  # a shape as a row of the kernels' arrays

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import InvalidInputError
+from ..sums import exact_dot, exact_sum, squared_lengths
 from ..validate import non_negative, positive
 from . import layout as L
 from .loop import BUFFER_FULL, CELL_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
@@ -490,16 +491,16 @@ class EventDrivenWorld:
     def kinetic_energy(self) -> float:
         v = self.velocities
         if self.uniform_mass:
-            return 0.5 * self.mass * float(np.einsum("ij,ij->", v, v))
-        return 0.5 * float(np.einsum("i,ij,ij->", self.masses, v, v))
+            return 0.5 * self.mass * exact_sum(squared_lengths(v))
+        return 0.5 * exact_dot(self.masses, squared_lengths(v))
 
     def potential_energy(self) -> float:
         """``m g y`` summed (height measured from the floor of the box)."""
         if self.gravity == 0.0:
             return 0.0
         if self.uniform_mass:
-            return self.mass * self.gravity * float(self.positions[:, 1].sum())
-        return self.gravity * float(self.masses @ self.positions[:, 1])
+            return self.mass * self.gravity * exact_sum(self.positions[:, 1])
+        return self.gravity * exact_dot(self.masses, self.positions[:, 1])
 
     def max_overlap(self) -> float:
         """Deepest overlap now (pairs and walls; negative: the smallest gap), length units."""

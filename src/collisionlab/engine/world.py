@@ -36,6 +36,7 @@ from ..errors import InvalidInputError
 from ..model import Scenario
 from ..numba_cache import compile_lock, gc_paused
 from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
+from ..sums import exact_dot, squared_lengths
 from ..vector import Vector3D
 from . import contact_kernels, event_rows, exact_kernels, pair_separation, step_kernels
 from .contact_stepper import ContactStepper
@@ -279,20 +280,24 @@ class World:
 
     def kinetic_energy(self, masses: Any = None) -> float:
         m = self._stored_masses() if masses is None else masses
-        v = self._bodies.vel
-        return float(0.5 * np.dot(m, np.einsum("ij,ij->i", v, v)))
+        return 0.5 * exact_dot(m, squared_lengths(self._bodies.vel))
 
     def potential_energy(self, masses: Any = None) -> float:
         """``-sum m g.x``: zero at the origin."""
         m = self._stored_masses() if masses is None else masses
-        return float(-np.dot(m, self._bodies.pos @ self._gravity))
+        pos, g = self._bodies.pos, self._gravity
+        heights = pos[:, 0] * g[0]
+        for k in range(1, pos.shape[1]):
+            heights = heights + pos[:, k] * g[k]
+        return -exact_dot(m, heights)
 
     def energy(self) -> float:
         return self.kinetic_energy() + self.potential_energy()
 
     def momentum(self, masses: Any = None) -> Vector3D:
         m = self._stored_masses() if masses is None else masses
-        return Vector3D(*(m @ self._bodies.vel).tolist())
+        v = self._bodies.vel
+        return Vector3D(*(exact_dot(m, v[:, k]) for k in range(v.shape[1])))
 
     def frame(self) -> Frame:
         return self._frame(self.position_array, self.velocity_array)
