@@ -89,3 +89,25 @@ def test_every_command_prints_its_progress_lines_in_a_log_unless_quiet(
     assert loud.status == 0 and marker in loud.err and "\r" not in loud.err
     quiet = run_cli([*argv, "--quiet"])
     assert quiet.status == 0 and marker not in quiet.err
+
+
+def test_the_environment_sets_the_interval_of_a_logs_lines(monkeypatch: pytest.MonkeyPatch) -> None:
+    # COLLISIONLAB_LOG_EVERY=2.5: 11 s of a run give lines at 2.5 (at the clock's 3 s), 5.5 and
+    # 8.5 s... the bar is told once a second, so a line at 3, 6 and 9 s: three lines
+    monkeypatch.setenv("COLLISIONLAB_LOG_EVERY", "2.5")
+    bar, err, clock = _bar(terminal=False)
+    _run_for(bar, clock, 11)
+    lines = err.getvalue().splitlines()
+    assert [line.split(", ")[1] for line in lines] == ["3 s", "6 s", "9 s"]
+
+
+@pytest.mark.parametrize("value", ["soon", "0", "-1", "nan", "inf", ""])
+def test_a_bad_interval_in_the_environment_is_one_warning_and_the_default(
+    monkeypatch: pytest.MonkeyPatch, value: str
+) -> None:
+    monkeypatch.setenv("COLLISIONLAB_LOG_EVERY", value)
+    bar, err, clock = _bar(terminal=False)
+    _run_for(bar, clock, 35)
+    lines = err.getvalue().splitlines()
+    assert lines[0] == f"warning: COLLISIONLAB_LOG_EVERY: expected seconds, a number > 0, got {value!r}; using 10"
+    assert len(lines) == 1 + 3  # then the default: 10, 20 and 30 s

@@ -725,6 +725,13 @@ def test_the_console_script_reports_bad_data_with_65_and_no_traceback(tmp_path: 
 _FIRST_LINE = 60.0
 
 
+@pytest.fixture
+def _a_line_a_second_or_so(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The runs below print their progress lines in a log every 0.5 s instead of every 10 s
+    (COLLISIONLAB_LOG_EVERY, which the runs inherit): each test waits for one or two such lines."""
+    monkeypatch.setenv("COLLISIONLAB_LOG_EVERY", "0.5")
+
+
 def _long_run(folder: Path, target: Path) -> list[str]:
     """A run of hours that writes little: 2,000 circles for 1,000,000 steps, a frame only at
     the start and end (no --quiet: it would silence the progress line the tests wait for). The
@@ -737,6 +744,7 @@ def _long_run(folder: Path, target: Path) -> list[str]:
     return ["run", str(scenario), "--every", "1000000", "--output", str(target)]
 
 
+@pytest.mark.usefixtures("_a_line_a_second_or_so")
 def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: Path) -> None:
     # stderr a pipe (a log) gets a progress line after LOG_EVERY s: once it shows, the run is
     # under way; Ctrl-C then must leave neither the output file nor a temporary one.
@@ -752,6 +760,7 @@ def test_ctrl_c_during_a_long_run_exits_130_and_leaves_no_output_file(tmp_path: 
     assert files_in(tmp_path) == []
 
 
+@pytest.mark.usefixtures("_a_line_a_second_or_so")
 @pytest.mark.parametrize(("name", "status"), [("SIGTERM", 143), ("SIGHUP", 129)])
 def test_sigterm_and_sighup_during_a_run_are_handled_as_ctrl_c(tmp_path: Path, name: str, status: int) -> None:
     # Each used to kill the process outright and leave the hidden temporary file of --output.
@@ -768,6 +777,7 @@ def test_sigterm_and_sighup_during_a_run_are_handled_as_ctrl_c(tmp_path: Path, n
     assert files_in(tmp_path) == []
 
 
+@pytest.mark.usefixtures("_a_line_a_second_or_so")
 def test_a_run_started_ignoring_sighup_runs_on_through_it(tmp_path: Path) -> None:
     # As under nohup: the terminal may close (SIGHUP) and the run goes on; it used to stop with
     # "stopped by SIGHUP" (the handler replaced the ignore). SIGTERM still stops it cleanly.
@@ -777,7 +787,10 @@ def test_a_run_started_ignoring_sighup_runs_on_through_it(tmp_path: Path) -> Non
         assert process.stderr is not None
         read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)
         process.send_signal(signal.SIGHUP)
-        read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)  # the next progress line
+        # Four more progress lines, 0.5 s apart: a run that SIGHUP stopped would have stopped
+        # within about a second (and the first of them may have been written before the signal).
+        for _ in range(4):
+            read_until(process.stderr.fileno(), b"/1000000", timeout=_FIRST_LINE)
         assert process.poll() is None
         process.send_signal(signal.SIGTERM)
         code, err = finish(process)

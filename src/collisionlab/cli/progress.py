@@ -1,24 +1,53 @@
 """Progress on standard error for runs that take more than a moment: a bar redrawn in place on
-a terminal; in a log (stderr not a terminal), a line every ``LOG_EVERY`` seconds."""
+a terminal; in a log (stderr not a terminal), a line every ``LOG_EVERY`` seconds (or what the
+environment's ``COLLISIONLAB_LOG_EVERY`` says)."""
 
 from __future__ import annotations
 
+import math
+import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 
 from .streams import Streams
 
-__all__ = ["LOG_EVERY", "REDRAW_EVERY", "SHOW_AFTER", "ProgressBar"]
+__all__ = ["LOG_EVERY", "LOG_EVERY_VARIABLE", "REDRAW_EVERY", "SHOW_AFTER", "ProgressBar", "log_every"]
 
 #: Seconds a run must last before a bar appears: short runs print nothing extra.
 SHOW_AFTER = 1.0
 #: Seconds between two progress lines when standard error is not a terminal (a log, CI, nohup):
 #: often enough to show the run is alive, rarely enough not to flood the log.
 LOG_EVERY = 10.0
+#: The environment variable that sets those seconds instead (a number > 0): a CI log that wants
+#: a line a second, a batch job that wants one a minute.
+LOG_EVERY_VARIABLE = "COLLISIONLAB_LOG_EVERY"
 #: Seconds between two redraws of the bar (a terminal redraws fast; more is only flicker).
 REDRAW_EVERY = 0.1
 #: Characters of the bar.
 _BAR_WIDTH = 30
+
+
+def log_every(environ: Mapping[str, str] = os.environ) -> tuple[float, str | None]:
+    """Seconds between two progress lines in a log: :data:`LOG_EVERY_VARIABLE` if it is set to a
+    number > 0, else :data:`LOG_EVERY`; and, for a value that is not such a number, the one-line
+    warning to print (the run goes on with the default).
+
+    >>> log_every({}), log_every({"COLLISIONLAB_LOG_EVERY": "2.5"})
+    ((10.0, None), (2.5, None))
+    >>> log_every({"COLLISIONLAB_LOG_EVERY": "soon"})[1]
+    "warning: COLLISIONLAB_LOG_EVERY: expected seconds, a number > 0, got 'soon'; using 10"
+    """
+    text = environ.get(LOG_EVERY_VARIABLE)
+    if text is None:
+        return LOG_EVERY, None
+    try:
+        seconds = float(text)
+    except ValueError:
+        seconds = math.nan
+    if not (math.isfinite(seconds) and seconds > 0.0):
+        expected = "expected seconds, a number > 0"
+        return LOG_EVERY, f"warning: {LOG_EVERY_VARIABLE}: {expected}, got {text!r}; using {LOG_EVERY:g}"
+    return seconds, None
 
 
 class ProgressBar:
@@ -36,6 +65,9 @@ class ProgressBar:
         self.started = clock()
         self.drawn = False
         self.last_draw = self.started
+        self.log_every, warning = log_every()
+        if warning is not None and not quiet and not streams.err_terminal:
+            streams.err(warning)
 
     def __call__(self, done: int, total: int) -> None:
         if self.quiet:
@@ -43,7 +75,7 @@ class ProgressBar:
         now = self.clock()
         elapsed = now - self.started
         if not self.streams.err_terminal:
-            if now - self.last_draw >= LOG_EVERY:
+            if now - self.last_draw >= self.log_every:
                 self.last_draw = now
                 left = f", about {(total - done) * elapsed / done:.0f} s left" if done else ""
                 self.streams.err(

@@ -17,7 +17,7 @@ from ..demos import builtin_sweep_path
 from ..errors import InvalidInputError
 from ..extras import require
 from .interrupts import Stopped, remembered_interrupts
-from .progress import LOG_EVERY, REDRAW_EVERY, SHOW_AFTER
+from .progress import REDRAW_EVERY, SHOW_AFTER, log_every
 from .run_command import positive_int
 from .streams import Streams
 
@@ -63,10 +63,13 @@ class _Progress:
         self.streams, self.quiet = streams, quiet
         self.last = time.monotonic()
         self.drawn = False
+        self.log_every, warning = log_every()
+        if warning is not None and not quiet and not streams.err_terminal:
+            streams.err(warning)
 
     def __call__(self, done: int, total: int, elapsed: float, done_now: int) -> None:
         now = time.monotonic()
-        interval = REDRAW_EVERY if self.streams.err_terminal else LOG_EVERY
+        interval = REDRAW_EVERY if self.streams.err_terminal else self.log_every
         if self.quiet or (now - self.last < interval and done < total) or elapsed < SHOW_AFTER:
             return
         self.last = now
