@@ -90,7 +90,7 @@ from .layout import (
     V,
     X,
 )
-from .predict import ceiling_time, contact_time, floor_time, impulse_magnitude, leave_time, wall_time
+from .predict import ceiling_time, collision_loss, contact_time, floor_time, impulse_magnitude, leave_time, wall_time
 
 __all__ = [
     "BUFFER_FULL",
@@ -380,12 +380,11 @@ def _collide(
     if mi == mj:
         kinetic_after = after_i + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
         G[G_KINETIC] += 0.5 * mi * (kinetic_after - kinetic)
-        G[G_LOST] += 0.25 * mi * (1.0 - e * e) * b * b / r2  # (1 - e^2)/2 mu v_n^2, mu = m/2
+        G[G_LOST] += collision_loss(b / r, 2.0 / mi, e)  # (1 - e^2)/2 mu v_n^2, mu = m/2
     else:
         after_j = F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
         G[G_KINETIC] += 0.5 * (mi * (after_i - kinetic_i) + mj * (after_j - kinetic_j))
-        mu = mi * mj / (mi + mj)  # the reduced mass
-        G[G_LOST] += 0.5 * mu * (1.0 - e * e) * b * b / r2
+        G[G_LOST] += collision_loss(b / r, 1.0 / mi + 1.0 / mj, e)  # mu = 1 / (1/m_i + 1/m_j)
     G[G_VIRIAL] += impulse * r  # r_ij . dp_i = (j / r) r^2, positive
     if S.shape[0] > 0:  # a mixture: the pair's species, and each one's kinetic energy
         a = S[i]
@@ -469,7 +468,7 @@ def _bounce(
     if row >= 0 and buf.shape[1] >= EVENT_FULL:
         _record_velocities(buf, row, 18, F, i)
     G[G_WALL + wall] += impulse
-    G[G_LOST] += 0.5 * m * (1.0 - e * e) * vn * vn  # theory: (1 - e^2)/2 m v_n^2 (the floor's rule aside)
+    G[G_LOST] += collision_loss(vn, 1.0 / m, e)  # theory: (1 - e^2)/2 m v_n^2 (the floor's rule aside)
     G[G_KINETIC] += 0.5 * m * (after * after - v * v)
     if S.shape[0] > 0:
         _species_energy(SE, S[i], now, 0.5 * m * (after * after - v * v))

@@ -26,16 +26,26 @@ import math
 from ..engine import geometry_kernels as gk
 from .compile import jit_call, jit_inline
 
-__all__ = ["ceiling_time", "contact_time", "floor_time", "impulse_magnitude", "leave_time", "wall_time"]
+__all__ = [
+    "ceiling_time",
+    "collision_loss",
+    "contact_time",
+    "floor_time",
+    "impulse_magnitude",
+    "leave_time",
+    "wall_time",
+]
 
 #: Two balls' time of impact, tested against every neighbour (no ``tmin``: see
 #: :func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`, why without branches),
-#: and the contact law: the engine's kernels, written once there, compiled into the loop here.
+#: and the contact law with its ledger term (what theory says a collision takes): the engine's
+#: kernels, written once there, compiled into the loop here.
 #: Inlined by numba (never compiled on their own here): the engine's compiled copy of the same
 #: source shares numba's cache entry for a function compiled on its own, and a process that
 #: loaded this one from it would look for that copy's module.
 contact_time = jit_inline(gk.time_of_impact_ball_ball)
 impulse_magnitude = jit_inline(gk.impulse_magnitude)
+collision_loss = jit_inline(gk.collision_loss)
 
 
 @jit_call
