@@ -365,7 +365,8 @@ def _saved_along(
 ) -> list[Path]:
     """The observed run of ``options`` (as the command makes it) done in one go, a checkpoint
     of it kept at every multiple of ``every`` (the command keeps the last only)."""
-    from collisionlab.cli.gas_command import _exact_gas, add_parser
+    from collisionlab.cli.gas_command import add_parser
+    from collisionlab.cli.gas_common import exact_gas as _exact_gas
     from collisionlab.edmd.observables import ExactGas, observer_for, parse_species, run_on_world
 
     parser = argparse.ArgumentParser()
