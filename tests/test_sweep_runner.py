@@ -8,6 +8,7 @@ import os
 import signal
 import subprocess
 import time
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -15,6 +16,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from collisionlab.cli.interrupts import Stopped
+from collisionlab.sweep.runner import dask_client
 from collisionlab.tolerances import ISCLOSE_REL_TOL
 
 from .cli_helpers import EXAMPLES, SCRIPT, example, finish, run_cli
@@ -232,3 +234,13 @@ def test_sigterm_and_sighup_stop_a_sweep_as_ctrl_c_with_their_own_status(
     name = signal.Signals(signum).name
     assert result.status == status
     assert f"collisionlab sweep: stopped by {name}: 0 of " in result.err and "--resume" in result.err
+
+
+def test_two_local_clusters_at_once_warn_nothing() -> None:
+    # Two sweeps on one machine: the second's scheduler found port 8787 taken by the first's HTTP
+    # server and warned (UserWarning: Port 8787 is already in use) in the middle of its output.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        with dask_client(workers=1) as first, dask_client(workers=1) as second:
+            assert first.submit(sum, [1, 2]).result() == 3
+            assert second.submit(sum, [3, 4]).result() == 7

@@ -106,6 +106,9 @@ def dask_client(scheduler: str | None = None, workers: int | None = None) -> Ite
         threads_per_worker=1,
         processes=True,
         dashboard_address=None,
+        # Its HTTP server (there even with no dashboard) on a free port: on 8787, a second sweep
+        # running at once warned "Port 8787 is already in use".
+        scheduler_kwargs={"dashboard_address": ":0"},
         silence_logs=logging.CRITICAL,  # its own errors (a heartbeat cut at shutdown) are not ours to print
     )
     with cluster, Client(cluster) as client:
