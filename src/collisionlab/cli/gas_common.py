@@ -158,7 +158,7 @@ MAX_SAMPLES = 100_000
 
 def exact_gas(args: argparse.Namespace, species: tuple[Any, ...]) -> Any:
     """The event-driven gas (``ExactGas``) the options ask for, not yet checked."""
-    from ..edmd.observables import ExactGas  # (here: the gas's modules load only when it runs)
+    from ..edmd.exact_gas import ExactGas  # (here: the gas's modules load only when it runs)
 
     return ExactGas(
         n=args.n,

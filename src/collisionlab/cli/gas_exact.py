@@ -48,7 +48,8 @@ KEPT_ON_RESUME = ("n", "dim", "fraction", "boundary", "seed", "restitution", "gr
 
 def run_exact(args: argparse.Namespace, streams: Streams) -> int:
     from ..edmd.events_file import event_file, event_format
-    from ..edmd.observables import FRAMES, parse_species, run_exact_gas
+    from ..edmd.exact_gas import FRAMES, parse_species
+    from ..edmd.observables import run_exact_gas
     from ..trajectory import Types, steps_for_frames
 
     if args.checkpoint is not None or args.resume is not None:
@@ -153,7 +154,7 @@ NOT_WITH_CHECKPOINTS = ("events", "trajectory", "frames", "plot")
 def contradictions(args: argparse.Namespace, gas: Any) -> None:
     """:class:`InvalidInputError` naming the first option given with ``--resume`` whose value
     is not the checkpoint's run's (``gas``, as it was given)."""
-    from ..edmd.observables import parse_species
+    from ..edmd.exact_gas import parse_species
 
     given: frozenset[str] = getattr(args, GIVEN, frozenset())
     if "mode" in given and args.mode != "exact":
@@ -220,7 +221,8 @@ def run_checkpointed(args: argparse.Namespace, streams: Streams) -> int:
 
     from ..atomic import check_target
     from ..edmd.checkpoint import CheckpointError, read_checkpoint, write_checkpoint
-    from ..edmd.observables import observer_for, parse_species, run_end, run_on_world
+    from ..edmd.exact_gas import parse_species
+    from ..edmd.observables import observer_for, run_end, run_on_world
     from ..edmd.structure import DEFAULT_SAMPLES
     from ..validate import positive
 

@@ -69,7 +69,8 @@ from numpy.typing import NDArray
 
 from ..errors import CollisionLabError, escape_controls
 from . import layout as L
-from .observables import ExactGas, Species, observer_for
+from .exact_gas import ExactGas, Species
+from .observables import observer_for
 from .structure import OBSERVABLES, OBSERVER_ARRAYS, Observer
 from .world import STATE_ARRAYS, EventDrivenWorld
 

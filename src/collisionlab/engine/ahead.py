@@ -47,7 +47,7 @@ def _event_driven(notify: Callable[[str], None] | None) -> None:
     import numpy as np
 
     from ..edmd.compile import COMPILE_TAKES, is_cached
-    from ..edmd.observables import ExactGas, Species
+    from ..edmd.exact_gas import ExactGas, Species
     from ..edmd.structure import pair_histogram
 
     compiling = notify is not None and not is_cached()

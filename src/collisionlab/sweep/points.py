@@ -29,7 +29,7 @@ from ..scenario_file import parse_scenario
 from .theory import compressibility_from_collisions
 
 if TYPE_CHECKING:  # the exact gas (and numba) load only when a sweep runs it
-    from ..edmd.observables import ExactGas
+    from ..edmd.exact_gas import ExactGas
 
 __all__ = [
     "EXACT_GAS_DEFAULTS",
@@ -274,7 +274,7 @@ def _species(given: object) -> tuple[Any, ...]:
     """The exact gas's ``species`` (an array of tables :data:`SPECIES_TABLE`) as
     :class:`~collisionlab.edmd.observables.Species`, unchecked (:class:`InvalidInputError`,
     field ``species``, when not tables of those keys)."""
-    from ..edmd.observables import Species
+    from ..edmd.exact_gas import Species
 
     if given is None:
         return ()
@@ -295,7 +295,7 @@ def _species(given: object) -> tuple[Any, ...]:
 
 def _exact_gas(data: Mapping[str, Any], seed: int) -> ExactGas:
     """The exact gas ``collisionlab gas --mode exact --seed SEED`` builds from these parameters."""
-    from ..edmd.observables import ExactGas
+    from ..edmd.exact_gas import ExactGas
 
     return ExactGas(
         n=data["n"],
