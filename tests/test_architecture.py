@@ -88,6 +88,7 @@ ABOVE_THE_COLLISION_LAYER = (
     "collisionlab.model",
     "collisionlab.limits",
     "collisionlab.record",
+    "collisionlab.collision_events",
     "collisionlab.plotting",
     "collisionlab.engine.world",
     "collisionlab.cli",

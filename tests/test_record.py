@@ -16,10 +16,11 @@ from hypothesis import example, given
 from hypothesis import strategies as st
 
 from collisionlab import text_kernels
+from collisionlab.collision_events import EventBlock, json_numbers
 from collisionlab.demos import load_demo
 from collisionlab.errors import InvalidInputError
 from collisionlab.extras import MissingExtraError
-from collisionlab.record import CollisionEvent, EventBlock, RunRecord, json_numbers
+from collisionlab.record import CollisionEvent, RunRecord
 from collisionlab.vector import Vector3D
 from collisionlab.world import simulate
 

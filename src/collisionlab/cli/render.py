@@ -19,7 +19,8 @@ from numpy.typing import NDArray
 
 from .. import text_kernels
 from ..atomic import copy_file
-from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
+from ..collision_events import EventBlock
+from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
 

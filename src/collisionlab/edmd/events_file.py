@@ -25,8 +25,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..atomic import atomic_stream
+from ..collision_events import EventBlock
 from ..errors import InvalidInputError
-from ..record import CollisionEvent, EventBlock, Frame, RunRecord, SkippedContact
+from ..record import CollisionEvent, Frame, RunRecord, SkippedContact
 
 __all__ = ["EVENT_FORMATS", "EventsFile", "event_file", "event_format", "rows_file", "wall_name"]
 

@@ -32,10 +32,11 @@ import numpy as np
 
 from .. import limits
 from ..built_sequence import SequenceChain
+from ..collision_events import EventBlock
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..numba_cache import compile_lock, gc_paused
-from ..record import CollisionEvent, EventBlock, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
+from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..sums import exact_dot, squared_lengths
 from ..vector import Vector3D
 from . import contact_kernels, event_rows, exact_kernels, pair_separation, step_kernels
