@@ -32,21 +32,22 @@ import numpy as np
 
 from .. import limits
 from ..built_sequence import SequenceChain
-from ..collision_events import EventBlock
 from ..errors import InvalidInputError
 from ..model import Scenario
 from ..numba_cache import compile_lock, gc_paused
-from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
+from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord
 from ..sums import exact_dot, squared_lengths
 from ..vector import Vector3D
-from . import contact_kernels, event_rows, exact_kernels, pair_separation, step_kernels
+from . import contact_kernels, exact_kernels, pair_separation, step_kernels
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_stepper import ExactStepper
 from .overlap import InitialOverlapError, find_overlaps, overlap_message
 from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
+from .recorded_events import recorded_events
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
+from .tunnelling import thickness, tunnelling
 
 __all__ = [
     "CHUNK_BODY_STEPS",
@@ -82,12 +83,6 @@ CHUNK_BODY_STEPS = 1 << 16
 #: Event rows a chunk may produce, going by the last chunk's rate: the kernel keeps a chunk's rows
 #: (208 bytes each) until it returns, and a pile's steps make up to 100,000 impacts each.
 CHUNK_EVENT_ROWS = 1 << 20
-
-
-def _thickness(kind: np.ndarray[Any, np.dtype[np.int64]], ext: np.ndarray[Any, np.dtype[np.float64]], dims: int) -> Any:
-    """How far something must travel to pass through each body (tunnelling check): a ball's
-    diameter, a box's shortest edge."""
-    return np.where(kind <= pair_separation.BALL_3D, 2.0 * ext[:, 0], 2.0 * ext[:, :dims].min(axis=1))
 
 
 class World:
@@ -185,7 +180,7 @@ class World:
             self._storage_sorts = True
         # Per body in the order given (storage is still that order here).
         kinds, extents = self._bodies.kind, self._bodies.ext
-        self._thickness = _thickness(kinds, extents, self.dims)
+        self._thickness = thickness(kinds, extents, self.dims)
         self._thinnest = float(self._thickness.min())
         compiled = self.params.compiled
         above = SOLVE_COMPILE_ABOVE if self._solving else COMPILE_ABOVE
@@ -335,36 +330,12 @@ class World:
 
     def _check_tunnelling(self) -> None:
         """Warn once when a body moves farther in one step than it takes to pass through
-        something (Forward Euler then misses the collision). Lines, planes and walls are not such
-        things: a body that crosses one is put back on its side (euler_clamps' ``_uncross``), a
-        body past a wall back inside; fixed boxes and other bodies are."""
+        something (:mod:`.tunnelling`)."""
         if self._tunnel_warned:
             return
-        b, dt = self._bodies, self.scenario.settings.dt
-        n = b.n
-        speeds = np.sqrt(np.einsum("ij,ij->i", b.vel, b.vel))
-        thick = self._thickness[b.ids]
-        # Nothing moves farther than the thinnest body in a step: no pair can tunnel (a pair's
-        # relative speed is at most twice the fastest, its limit at least twice the thinnest).
-        if float(speeds.max()) * dt <= self._thinnest:
-            return
-        found: tuple[int, int, float, float] | None = None
-        if np.any(self._statics.kind == pair_separation.STATIC_BOX):
-            over = speeds * dt > thick
-            if np.any(over):
-                i = int(np.argmax(over))
-                found = (-1, i, float(speeds[i] * dt), float(thick[i]))
-        if found is None and n > 1:
-            if n <= 400:
-                relative = np.sqrt(((b.vel[:, None, :] - b.vel[None, :, :]) ** 2).sum(axis=2)) * dt
-                limit = thick[:, None] + thick[None, :]
-                over = np.triu(relative > limit, 1)
-                if np.any(over):
-                    i, j = (int(x) for x in np.argwhere(over)[0])
-                    found = (i, j, float(relative[i, j]), float(limit[i, j]))
-            elif 2.0 * float(speeds.max()) * dt > 2.0 * float(thick.min()):
-                i = int(np.argmax(speeds))
-                found = (i, i, 2.0 * float(speeds.max()) * dt, 2.0 * float(thick.min()))
+        b = self._bodies
+        fixed_boxes = bool(np.any(self._statics.kind == pair_separation.STATIC_BOX))
+        found = tunnelling(b.vel, self._thickness[b.ids], self._thinnest, self.scenario.settings.dt, fixed_boxes)
         if found is None:
             return
         a, i, moved, limit = found
@@ -523,31 +494,7 @@ class World:
         collisions and a list of :class:`SkippedContact`, recorded and told to the observer."""
         if events.shape[0] == 0:
             return
-        skipping = events[:, 0] == event_rows.EVENT_SKIPPED
-        skipped = [
-            SkippedContact(int(row[1]), row[2], self._pair_names(int(row[3]), int(row[4])), "separating")
-            for row in events[skipping].tolist()
-        ]
-        rows = events[~skipping]
-        block = EventBlock(
-            step=rows[:, 1].astype(np.int64),
-            time=rows[:, 2],
-            a=rows[:, 3].astype(np.int64),
-            b=rows[:, 4].astype(np.int64),
-            normal=rows[:, 5:8],
-            point=rows[:, 8:11],
-            approach_speed=rows[:, 11],
-            impulse=rows[:, 12],
-            restitution=rows[:, 13],
-            below_rest=(rows[:, 0] == event_rows.EVENT_BELOW_REST).astype(np.int64),
-            before_a=rows[:, 14:17],
-            before_b=rows[:, 17:20],
-            after_a=rows[:, 20:23],
-            after_b=rows[:, 23:26],
-            names=self._names,
-            static_names=self._static_names,
-            masses=self._mass_array,
-        )
+        block, skipped = recorded_events(events, self._names, self._static_names, self._mass_array)
         self._stepper.release_events()
         self.record.collision_count += len(block)
         if self._keep:
