@@ -117,15 +117,47 @@ def test_is_cached_drops_stale_cached_code_before_it_answers(monkeypatch: pytest
 
 
 def test_each_kernel_file_is_handed_the_compiled_files_it_imports() -> None:
-    """compiled.py's import graph, kept by hand, is the files' own: the block at the top of a
-    kernel file reads, in its compiled copy, the globals it is handed, and imports the same
-    files as Python (a file left out would fail to compile, or drop a stale cache too seldom)."""
+    """compiled.py reads the import graph from the kernel files' own blocks: every file with such
+    a block is reached from the steppers' loops, every line of a block is read (a line of another
+    form would be a file left out: it would fail to compile, or drop a stale cache too seldom),
+    each file is handed under one global name, and the graph has no circle."""
     folder = Path(compiled.__file__).resolve().parent
-    for stem, imported in compiled._IMPORTS.items():
+    files = set(compiled._kernel_files())
+    block = re.compile(r'^if "_[A-Z_]+" in globals\(\):', re.MULTILINE)
+    with_block = {p.stem for p in folder.glob("*.py") if block.search(p.read_text(encoding="utf-8"))}
+    assert len(with_block) > 20
+    assert with_block <= files
+    names: dict[str, set[str]] = {}
+    for stem in files:
         text = (folder / f"{stem}.py").read_text(encoding="utf-8")
-        handed = set(re.findall(r'globals\(\)\["(_[A-Z_]+)"\]', text))
-        assert handed == {compiled._GLOBAL_NAMES[name] for name in imported}, stem
-        python = set(re.findall(r"^    from \. import (\w+) as \w+$", text, re.MULTILINE))
-        assert python == set(imported), stem
-    kernel_files = {p.stem for p in folder.glob("*.py") if 'globals()["_' in p.read_text(encoding="utf-8")}
-    assert kernel_files <= set(compiled._IMPORTS)  # every file with such a block is loaded by compiled.py
+        imports = compiled._imports(stem)
+        assert len(re.findall(r'globals\(\)\["_', text)) == len(imports), stem
+        assert len(re.findall(r"^\s+from \. import ", text, re.MULTILINE)) == len(imports), stem
+        for module, name in imports.items():
+            names.setdefault(module, set()).add(name)
+    assert all(len(handed) == 1 for handed in names.values()), names
+
+    def reaches(stem: str, seen: tuple[str, ...]) -> None:
+        assert stem not in seen, f"import circle: {' -> '.join((*seen, stem))}"
+        for callee in compiled._imports(stem):
+            reaches(callee, (*seen, stem))
+
+    for root in compiled._ROOTS:
+        reaches(root, ())
+
+
+def test_a_block_that_names_different_files_in_its_two_halves_is_refused(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    (tmp_path / "odd_kernels.py").write_text(
+        'if "_GEOMETRY" in globals():\n    gk: Any = globals()["_GEOMETRY"]\n'
+        "else:\n    from . import pair_separation as ps\n",
+        encoding="utf-8",
+    )
+    monkeypatch.setattr(compiled, "_HERE", tmp_path)
+    compiled._imports.cache_clear()
+    try:
+        with pytest.raises(RuntimeError, match=re.escape("odd_kernels.py: the compiled copy's globals")):
+            compiled._imports("odd_kernels")
+    finally:
+        compiled._imports.cache_clear()

@@ -22,7 +22,9 @@ never finds a kernel numba would compile again).
 
 from __future__ import annotations
 
+import functools
 import importlib.util
+import re
 import sys
 import types
 from pathlib import Path
@@ -64,157 +66,60 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     return module
 
 
-#: Each kernel file and the kernel files it imports: its compiled copy is handed theirs as the
-#: globals of :data:`_GLOBAL_NAMES` (the block at the top of each file that reads them).
-_IMPORTS: dict[str, tuple[str, ...]] = {
-    "geometry_kernels": (),
-    "event_heap": (),
-    # The Forward Euler stepper, one concept per file (step_kernels.py, the loop, lists them); the
-    # other steppers call its lower files too.
-    "non_literal": (),
-    "pair_separation": ("geometry_kernels",),
-    "broad_phase_grid": (),
-    "broad_phase_pairs": ("pair_separation", "broad_phase_grid"),
-    "contact_order": ("non_literal",),
-    "touching_memory": (),
-    "event_rows": ("non_literal",),
-    "euler_impulses": ("geometry_kernels", "non_literal", "pair_separation", "event_rows"),
-    "euler_push_apart": ("pair_separation",),
-    "euler_clamps": ("pair_separation", "broad_phase_pairs"),
-    "step_kernels": (
-        "non_literal",
-        "broad_phase_grid",
-        "broad_phase_pairs",
-        "contact_order",
-        "touching_memory",
-        "euler_impulses",
-        "euler_push_apart",
-        "euler_clamps",
-    ),
-    # The exact stepper, one concept per file (exact_kernels.py, the loop, lists them).
-    "exact_flight": (),
-    "exact_sweeps": (),
-    "exact_impulses": ("geometry_kernels",),
-    "exact_time_of_impact": ("geometry_kernels", "pair_separation", "exact_flight"),
-    "exact_rest": ("geometry_kernels", "pair_separation", "exact_impulses"),
-    "exact_settle": (
-        "geometry_kernels",
-        "pair_separation",
-        "event_rows",
-        "event_heap",
-        "exact_flight",
-        "exact_time_of_impact",
-        "exact_impulses",
-        "exact_rest",
-    ),
-    "exact_impacts": (
-        "geometry_kernels",
-        "pair_separation",
-        "event_rows",
-        "event_heap",
-        "exact_flight",
-        "exact_time_of_impact",
-        "exact_impulses",
-        "exact_rest",
-        "exact_sweeps",
-        "exact_settle",
-    ),
-    "exact_step_end": ("pair_separation", "touching_memory", "exact_sweeps"),
-    "exact_kernels": (
-        "non_literal",
-        "pair_separation",
-        "broad_phase_grid",
-        "broad_phase_pairs",
-        "contact_order",
-        "touching_memory",
-        "event_rows",
-        "euler_push_apart",
-        "euler_clamps",
-        "exact_flight",
-        "exact_rest",
-        "exact_sweeps",
-        "exact_settle",
-        "exact_impacts",
-        "exact_step_end",
-    ),
-    # The contact stepper, one concept per file (contact_kernels.py, the loop, lists them).
-    "contact_flight": (),
-    "contact_memory": ("non_literal",),
-    "contact_qp": (),
-    "contact_time_of_impact": ("geometry_kernels", "pair_separation", "contact_flight"),
-    "contact_candidates": ("non_literal", "contact_time_of_impact"),
-    "contact_islands": ("non_literal", "contact_time_of_impact", "contact_candidates"),
-    "contact_impacts": (
-        "geometry_kernels",
-        "non_literal",
-        "pair_separation",
-        "event_rows",
-        "event_heap",
-        "contact_flight",
-        "contact_time_of_impact",
-        "contact_islands",
-    ),
-    "contact_solver": ("non_literal", "contact_time_of_impact", "contact_memory", "contact_qp"),
-    "contact_push_apart": ("non_literal", "contact_time_of_impact", "contact_qp"),
-    "contact_kernels": (
-        "non_literal",
-        "contact_candidates",
-        "contact_impacts",
-        "contact_islands",
-        "contact_push_apart",
-        "contact_qp",
-        "contact_solver",
-    ),
-}
+#: The kernel files a run starts from: each stepper's loop. The rest are found from them.
+_ROOTS = ("step_kernels", "exact_kernels", "contact_kernels")
+#: A kernel file names the kernel files it calls twice, in the block at its top: the global its
+#: compiled copy is handed (``gk: Any = globals()["_GEOMETRY"]``) and the import of its Python
+#: form (``from . import geometry_kernels as gk``), paired by the name they bind.
+_HANDED = re.compile(r'^    (\w+): Any = globals\(\)\["(_[A-Z_]+)"\]$', re.MULTILINE)
+_IMPORTED = re.compile(r"^    from \. import (\w+) as (\w+)$", re.MULTILINE)
 
-#: The global a compiled copy finds an imported kernel file's compiled copy under.
-_GLOBAL_NAMES = {
-    "geometry_kernels": "_GEOMETRY",
-    "step_kernels": "_STEP",
-    "non_literal": "_NON_LITERAL",
-    "pair_separation": "_PAIR_SEPARATION",
-    "broad_phase_grid": "_BROAD_PHASE_GRID",
-    "broad_phase_pairs": "_BROAD_PHASE_PAIRS",
-    "contact_order": "_CONTACT_ORDER",
-    "touching_memory": "_TOUCHING_MEMORY",
-    "event_rows": "_EVENT_ROWS",
-    "euler_impulses": "_EULER_IMPULSES",
-    "euler_push_apart": "_EULER_PUSH_APART",
-    "euler_clamps": "_EULER_CLAMPS",
-    "event_heap": "_HEAP",
-    "exact_flight": "_EXACT_FLIGHT",
-    "exact_sweeps": "_EXACT_SWEEPS",
-    "exact_impulses": "_EXACT_IMPULSES",
-    "exact_time_of_impact": "_EXACT_TIME_OF_IMPACT",
-    "exact_rest": "_EXACT_REST",
-    "exact_settle": "_EXACT_SETTLE",
-    "exact_step_end": "_EXACT_STEP_END",
-    "exact_impacts": "_EXACT_IMPACTS",
-    "contact_flight": "_CONTACT_FLIGHT",
-    "contact_memory": "_CONTACT_MEMORY",
-    "contact_qp": "_CONTACT_QP",
-    "contact_time_of_impact": "_CONTACT_TIME_OF_IMPACT",
-    "contact_candidates": "_CONTACT_CANDIDATES",
-    "contact_islands": "_CONTACT_ISLANDS",
-    "contact_impacts": "_CONTACT_IMPACTS",
-    "contact_solver": "_CONTACT_SOLVER",
-    "contact_push_apart": "_CONTACT_PUSH_APART",
-}
+
+@functools.cache
+def _imports(stem: str) -> dict[str, str]:
+    """The kernel files ``stem``.py calls, each with the global its compiled copy finds it
+    under, read from the file itself (so no list of them is kept by hand here).
+
+    >>> _imports("exact_rest")
+    {'exact_impulses': '_EXACT_IMPULSES', 'geometry_kernels': '_GEOMETRY', 'pair_separation': '_PAIR_SEPARATION'}
+    """
+    text = (_HERE / f"{stem}.py").read_text(encoding="utf-8")
+    handed = dict(_HANDED.findall(text))
+    imported = {alias: module for module, alias in _IMPORTED.findall(text)}
+    if set(handed) != set(imported):
+        raise RuntimeError(f"{stem}.py: the compiled copy's globals {sorted(handed)} and the imports "
+                           f"{sorted(imported)} of its Python form name different kernel files")  # fmt: skip
+    return {imported[alias]: handed[alias] for alias in sorted(imported, key=imported.__getitem__)}
+
+
+@functools.cache
+def _kernel_files() -> tuple[str, ...]:
+    """Every kernel file: the roots and what they call, directly or through another.
+
+    >>> {"geometry_kernels", "exact_rest", "contact_solver"} <= set(_kernel_files())
+    True
+    """
+    found: list[str] = []
+    waiting = list(_ROOTS)
+    while waiting:
+        stem = waiting.pop()
+        if stem not in found:
+            found.append(stem)
+            waiting.extend(_imports(stem))
+    return tuple(sorted(found))
 
 
 def _calls(stem: str) -> list[str]:
     """The kernel files whose code the machine code of ``stem``'s kernels contains: those it
-    imports, and theirs, in the order first met.
+    imports, and theirs.
 
     >>> _calls("exact_rest")
-    ['geometry_kernels', 'pair_separation', 'exact_impulses']
+    ['exact_impulses', 'geometry_kernels', 'pair_separation']
     """
-    found: list[str] = []
-    for callee in _IMPORTS[stem]:
-        for name in (*_calls(callee), callee):
-            if name not in found:
-                found.append(name)
-    return found
+    found: set[str] = set()
+    for callee in _imports(stem):
+        found.update((*_calls(callee), callee))
+    return sorted(found)
 
 
 def _forget_stale() -> None:
@@ -222,7 +127,7 @@ def _forget_stale() -> None:
     another), or this one (the options it is compiled with), is newer than it. (numba would
     compile a changed file's kernels again anyway; removing its files first keeps
     :func:`is_cached` true to what a call will do.)"""
-    for stem in _IMPORTS:
+    for stem in _kernel_files():
         sources = [_HERE / f"{name}.py" for name in (stem, *_calls(stem))]
         sources += [_HERE.parent / "tolerances.py", Path(__file__)]
         forget_stale(_HERE, [stem], sources)
@@ -243,7 +148,7 @@ def _module(stem: str) -> types.ModuleType:
     loads it from its cache, at the kernel's first call)."""
     _start()
     if stem not in _loaded:
-        inject = {_GLOBAL_NAMES[callee]: _module(callee) for callee in _IMPORTS[stem]}
+        inject = {name: _module(callee) for callee, name in _imports(stem).items()}
         _loaded[stem] = _compile_module(stem, inject)
     return _loaded[stem]
 
