@@ -80,6 +80,10 @@ def test_cache_files_finds_what_numba_wrote(tmp_path: Path, monkeypatch: pytest.
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(cache))
     found = sorted(f.suffix for f in numba_cache.cache_files(package))
     assert found == [".nbc", ".nbi"]
+    # and what every loader asks: the entry is there, another is not, nor one of another file
+    assert numba_cache.holds(package, "twice", "twice")
+    assert not numba_cache.holds(package, "twice", "thrice")
+    assert not numba_cache.holds(package, "other", "twice")
 
 
 @pytest.mark.parametrize("enabled", [True, False])

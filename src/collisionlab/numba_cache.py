@@ -24,6 +24,7 @@ __all__ = [
     "compiled_once",
     "forget_stale",
     "gc_paused",
+    "holds",
     "numba_cache_dir",
     "use_user_cache",
 ]
@@ -101,6 +102,16 @@ def cache_files(package: Path) -> list[Path]:
     package = package.resolve()
     folders = [package / "__pycache__", _cache_folder(package)]
     return [f for folder in dict.fromkeys(folders) if folder.exists() for f in folder.glob("*.nb[ic]")]
+
+
+def holds(package: Path, stem: str, entry: str) -> bool:
+    """Whether numba's cache seems to hold the function ``entry`` of ``package``'s file ``stem``
+    (its index file is there): its first call then loads it in well under a second instead of
+    compiling it. The one rule every kernel loader asks (the engine's, the event-driven loop's,
+    the output writers'); a guess, since numba could still find the entry stale. Kernels inlined
+    from other files are in the entry's own code, so only its files are looked for (a loader
+    drops stale ones first: :func:`forget_stale`)."""
+    return any(f.name.startswith(f"{stem}.{entry}-") for f in cache_files(package))
 
 
 def _cache_folder(package: Path) -> Path:

@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .numba_cache import cache_files, use_user_cache
+from .numba_cache import holds, use_user_cache
 
 __all__ = [
     "FIXED3",
@@ -193,7 +193,7 @@ def is_cached() -> bool:
     index file, as :func:`collisionlab.engine.compiled.is_cached`): else the first use compiles
     it, for a few seconds, and a program says so."""
     use_user_cache()
-    return any(f.name.startswith("text_kernels.lay_out-") for f in cache_files(Path(__file__).parent))
+    return holds(Path(__file__).parent, "text_kernels", "lay_out")
 
 
 def compiled() -> Callable[..., int]:

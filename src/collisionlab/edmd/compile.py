@@ -17,7 +17,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, cast
 
-from ..numba_cache import cache_files, compiled_once, forget_stale, use_user_cache
+from ..numba_cache import compiled_once, forget_stale, holds, use_user_cache
 
 use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
 _HERE = Path(__file__).resolve().parent
@@ -83,7 +83,7 @@ def flag(value: bool) -> bool:
 def is_cached() -> bool:
     """Whether numba's cache seems to hold the event loop already (a guess from its index file:
     a run then loads it in well under a second instead of compiling it)."""
-    return any(f.name.startswith("loop.run_events-") for f in cache_files(_HERE))
+    return holds(_HERE, "loop", "run_events")
 
 
 #: numba's code-generation helpers, untyped.

@@ -30,7 +30,7 @@ import types
 from pathlib import Path
 from typing import Any
 
-from ..numba_cache import cache_files, forget_stale, use_user_cache
+from ..numba_cache import forget_stale, holds, use_user_cache
 
 __all__ = ["contact_kernels", "exact_kernels", "is_cached", "kernels"]
 
@@ -177,4 +177,4 @@ def is_cached(stem: str, entry: str) -> bool:
     (the kernels it calls are compiled into its machine code), once stale cached code is dropped
     (:func:`_start`): a kernel file changed since is not cached, whatever its old files say."""
     _start()
-    return any(f.name.startswith(f"{stem}.{entry}-") for f in cache_files(_HERE))
+    return holds(_HERE, stem, entry)
