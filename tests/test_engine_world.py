@@ -389,7 +389,7 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
     else:  # the exact world's notice also asks about the exact kernel, to say how long
         assert asked == [called[0], *called[1:] * 2]
         assert locked == [stem for stem, _ in called]
-        assert [line.split("; ")[1] for line in said] == ["about a minute)...", "about two minutes)..."]
+        assert [line.split("; ")[1] for line in said] == ["up to a minute)...", "two to three minutes)..."]
 
 
 # --- issue 28: the compiled kernels loaded ahead of the first step ---------------------------------
@@ -421,7 +421,7 @@ def test_a_compile_announced_is_said_to_be_done_and_a_load_says_nothing(monkeypa
 
         def step(self, steps: int) -> None:
             if callable(self.notify) and announce:
-                self.notify("compiling the engine's kernels (once per machine; about a minute)...")
+                self.notify("compiling the engine's kernels (once per machine; up to a minute)...")
 
     monkeypatch.setattr(engine_world, "World", Compiling)
     monkeypatch.setattr(engine_world, "_LOADED", set())

@@ -19,15 +19,58 @@ from pathlib import Path
 from typing import Any
 
 __all__ = [
+    "COMPILE_TAKES",
     "cache_files",
     "compile_lock",
+    "compiled_notice",
     "compiled_once",
+    "compiling_notice",
     "forget_stale",
     "gc_paused",
     "holds",
     "numba_cache_dir",
     "use_user_cache",
 ]
+
+
+#: What a first compile takes on a 2-core machine, for each kind of kernels, as the notice says it
+#: (bench/README.md's ``collisionlab compile`` row and bench/LOG.md: Forward Euler 12-17 s, the
+#: solved contacts 44-55 s, exact mode's kernels 108-157 s, the event-driven loop 67-90 s, the
+#: writers' text kernel 1-2 s, from machine to machine of this kind).
+COMPILE_TAKES: dict[str, str] = {
+    "euler": "up to a minute",
+    "solve": "up to a minute",
+    "exact": "two to three minutes",
+    "event-driven": "one to two minutes",
+    "text": "a few seconds",
+}
+#: What each kind is called in the notices.
+_CALLED = {
+    "euler": "the engine's kernels",
+    "solve": "the engine's kernels",
+    "exact": "the engine's kernels",
+    "event-driven": "the event-driven kernels",
+    "text": "the output writers' text kernel",
+}
+
+
+def compiling_notice(kind: str) -> str:
+    """What a program says before numba compiles the kernels of ``kind`` (a key of
+    :data:`COMPILE_TAKES`): the one notice every loader gives.
+
+    >>> compiling_notice("event-driven")
+    'compiling the event-driven kernels (once per machine; one to two minutes)...'
+    """
+    return f"compiling {_CALLED[kind]} (once per machine; {COMPILE_TAKES[kind]})..."
+
+
+def compiled_notice(kind: str, seconds: float) -> str:
+    """What it says when that compile is done.
+
+    >>> compiled_notice("solve", 41.7)
+    "compiled the engine's kernels in 42 s"
+    """
+    return f"compiled {_CALLED[kind]} in {seconds:.0f} s"
 
 
 def numba_cache_dir() -> Path:

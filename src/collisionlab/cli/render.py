@@ -20,6 +20,7 @@ from numpy.typing import NDArray
 from .. import text_kernels
 from ..atomic import copy_file
 from ..collision_events import EventBlock
+from ..numba_cache import compiled_notice, compiling_notice
 from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord, SkippedContact
 from ..textformat import format_float as _f
 from ..vector import Vector3D
@@ -135,7 +136,7 @@ _COMPILED_EVENTS = 512
 
 
 #: What a writer says (through its ``notify``) before the text kernel compiles.
-COMPILE_NOTICE = "compiling the output writers' text kernel (once per machine)..."
+COMPILE_NOTICE = compiling_notice("text")
 
 
 def _block_texts(block: EventBlock, dims: int, compiling: Callable[[], None] | None = None) -> list[tuple[int, str]]:
@@ -325,7 +326,7 @@ class _TextCompile:
 
     def done(self) -> None:
         if self._notify is not None and self._began is not None and text_kernels.is_cached():
-            self._notify(f"compiled the output writers' text kernel in {time.perf_counter() - self._began:.0f} s")
+            self._notify(compiled_notice("text", time.perf_counter() - self._began))
             self._notify = None
 
 

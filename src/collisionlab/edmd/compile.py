@@ -32,11 +32,8 @@ from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
 from numba.core.extending import intrinsic  # noqa: E402
 
-__all__ = ["COMPILE_TAKES", "borrowed", "flag", "is_cached", "jit", "jit_call", "jit_inline", "prefetch"]
+__all__ = ["borrowed", "flag", "is_cached", "jit", "jit_call", "jit_inline", "prefetch"]
 
-#: What the first compile of these kernels takes on a 2-core machine, for the notice a run or
-#: ``collisionlab compile`` gives (bench/LOG.md, "Compiling the event-driven kernels").
-COMPILE_TAKES = "about a minute"
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 _A = TypeVar("_A")

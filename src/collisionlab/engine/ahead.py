@@ -15,6 +15,7 @@ import time
 from collections.abc import Callable
 
 from ..errors import InvalidInputError
+from ..numba_cache import compiled_notice, compiling_notice
 from .world import load_stepper_kernels
 
 __all__ = ["KERNEL_CHOICES", "KERNEL_KINDS", "compiled_choice", "is_cached", "load_kernels"]
@@ -46,13 +47,13 @@ def _event_driven(notify: Callable[[str], None] | None) -> None:
     same types."""
     import numpy as np
 
-    from ..edmd.compile import COMPILE_TAKES, is_cached
+    from ..edmd.compile import is_cached
     from ..edmd.exact_gas import ExactGas, Species
     from ..edmd.structure import pair_histogram
 
     compiling = notify is not None and not is_cached()
     if notify is not None and compiling:
-        notify(f"compiling the event-driven kernels (once per machine; {COMPILE_TAKES})...")
+        notify(compiling_notice("event-driven"))
     started = time.perf_counter()
     world = ExactGas(n=20, dim=2, fraction=0.1, time=0.1, boundary="periodic").world()
     world.run(0.1)
@@ -61,7 +62,7 @@ def _event_driven(notify: Callable[[str], None] | None) -> None:
     dense_binary = (Species("a", 0.5, 1.0), Species("b", 0.5, 0.5))  # too dense for a lattice: spread apart
     ExactGas(n=20, dim=2, fraction=0.6, time=0.1, boundary="walls", species=dense_binary).world()
     if notify is not None and compiling:  # the wait announced is over
-        notify(f"compiled the event-driven kernels in {time.perf_counter() - started:.0f} s")
+        notify(compiled_notice("event-driven", time.perf_counter() - started))
 
 
 def _particles() -> None:

@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from ..errors import InvalidInputError
 from ..model import BallSpecies, Box
+from ..numba_cache import compiling_notice
 from . import event_rows, step_kernels
 from .params import WorldParams
 from .state import BodyArrays, StaticArrays
@@ -82,7 +83,7 @@ class EventDrivenStepper:
         species: tuple[tuple[BallSpecies, ...], NDArray[np.int64]] | None = None,
     ) -> None:
         from ..edmd import EventDrivenWorld
-        from ..edmd.compile import COMPILE_TAKES, is_cached
+        from ..edmd.compile import is_cached
         from ..edmd.guard import RunGuard
 
         self.bodies, self.statics, self.dims, self.params = bodies, statics, dims, params
@@ -109,7 +110,7 @@ class EventDrivenStepper:
             tc = default_tc(smallest, bodies.vel, g, restitution, params.tc_fraction)
         self.tc = tc
         if notify is not None and not is_cached():
-            notify(f"compiling the event-driven kernels (once per machine; {COMPILE_TAKES})...")
+            notify(compiling_notice("event-driven"))
         try:
             self.world = EventDrivenWorld(
                 bodies.pos[:, :dims] - self._origin,

@@ -34,7 +34,7 @@ from .. import limits
 from ..built_sequence import SequenceChain
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..numba_cache import compile_lock, gc_paused
+from ..numba_cache import compile_lock, compiled_notice, compiling_notice, gc_paused
 from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord
 from ..sums import exact_dot, squared_lengths
 from ..vector import Vector3D
@@ -384,8 +384,7 @@ class World:
             # will wait (on 2 cores, bench/README.md).
             exact = self._exact and not self.scenario.event_driven and not self._solving
             exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
-            took = "about two minutes" if exact else "about a minute"
-            self._notify(f"compiling the engine's kernels (once per machine; {took})...")
+            self._notify(compiling_notice("exact" if exact else "euler"))
         return compile_lock(Path(kernels.__file__ or ".").parent, stem)
 
     def step(self, steps: int = 1) -> None:
@@ -728,5 +727,5 @@ def load_stepper_kernels(kind: str, notify: Callable[[str], None] | None = None)
     _LOADED.add(kind)
     took = time.perf_counter() - started
     if notify is not None and said:  # it compiled: the wait announced is over
-        notify(f"compiled the engine's kernels in {took:.0f} s")
+        notify(compiled_notice(kind, took))
     return took
