@@ -12,7 +12,6 @@ they share.
 from __future__ import annotations
 
 import argparse
-import json
 from typing import Any
 
 from .. import limits
@@ -35,7 +34,7 @@ from .gas_common import (
     warn_if_gaining,
 )
 from .gas_exact import run_exact
-from .gas_text import stepped_table
+from .gas_text import emit_report, stepped_table
 from .interrupts import ChunkWatch, interruptible, interrupts_for
 from .progress import ProgressBar
 from .streams import Streams
@@ -295,9 +294,4 @@ def run(args: argparse.Namespace, streams: Streams) -> int:
             streams.err(f"{PROG}: --plot: cannot write {args.plot}: {err.strerror or err}")
             return 1
         report["plot"] = args.plot
-    if args.format == "json":
-        streams.out(json.dumps(report))
-    else:
-        for line in stepped_table(report):
-            streams.out(line)
-    return 0
+    return emit_report(args, streams, report, stepped_table)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from collections.abc import Callable
 from typing import Any
 
 from .gas_common import PROG
@@ -141,11 +142,17 @@ def trajectory_line(report: dict[str, Any]) -> list[str]:
     return [f"  trajectory       {report['trajectory']} ({report['trajectory_frames']} frames)"]
 
 
-def emit_report(args: argparse.Namespace, streams: Streams, report: dict[str, Any]) -> int:
-    """Print an exact gas run's report as ``--format`` asks (JSON, or the table); exit status 0."""
+def emit_report(
+    args: argparse.Namespace,
+    streams: Streams,
+    report: dict[str, Any],
+    table: Callable[[dict[str, Any]], list[str]] = exact_table,
+) -> int:
+    """Print a gas run's report as ``--format`` asks (JSON, or the ``table``: an exact run's by
+    default); exit status 0."""
     if args.format == "json":
         streams.out(json.dumps(report))
     else:
-        for line in exact_table(report):
+        for line in table(report):
             streams.out(line)
     return 0
