@@ -22,10 +22,10 @@ from . import text_kernels
 from .built_sequence import BuiltSequence
 from .vector import Vector3D
 
-__all__ = ["CollisionEvent", "EventBlock", "json_numbers"]
+__all__ = ["CollisionEvent", "EventBlock", "json_numbers", "json_vector"]
 
 
-def _vec(v: Vector3D) -> list[float]:
+def json_vector(v: Vector3D) -> list[float]:
     """``v`` as a list, ``-0.0`` written ``0.0`` (a signed zero reads as another number)."""
     return [v.x + 0.0, v.y + 0.0, v.z + 0.0]
 
@@ -64,13 +64,13 @@ class CollisionEvent:
             "time": self.time + 0.0,
             "bodies": list(self.bodies),
             "static": self.static,
-            "normal": _vec(self.normal),
-            "point": _vec(self.point),
+            "normal": json_vector(self.normal),
+            "point": json_vector(self.point),
             "approach_speed": self.approach_speed + 0.0,
             "impulse": self.impulse + 0.0,
             "restitution": self.restitution + 0.0,
-            "velocities_before": {k: _vec(v) for k, v in self.velocities_before.items()},
-            "velocities_after": {k: _vec(v) for k, v in self.velocities_after.items()},
+            "velocities_before": {k: json_vector(v) for k, v in self.velocities_before.items()},
+            "velocities_after": {k: json_vector(v) for k, v in self.velocities_after.items()},
             "kinetic_energy_before": self.kinetic_energy_before + 0.0,
             "kinetic_energy_after": self.kinetic_energy_after + 0.0,
             "below_rest_threshold": self.below_rest_threshold,

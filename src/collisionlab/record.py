@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .built_sequence import BuiltSequence, SequenceChain
-from .collision_events import CollisionEvent, EventBlock  # also importable from here
+from .collision_events import CollisionEvent, EventBlock, json_vector  # the first two importable from here too
 from .extras import require
 from .vector import Vector3D
 
@@ -36,11 +36,6 @@ __all__ = [
     "RunRecord",
     "SkippedContact",
 ]
-
-
-def _vec(v: Vector3D) -> list[float]:
-    """``v`` as a list, ``-0.0`` written ``0.0`` (a signed zero reads as another number)."""
-    return [v.x + 0.0, v.y + 0.0, v.z + 0.0]
 
 
 def _count(n: int, singular: str, plural: str | None = None) -> str:
@@ -110,7 +105,10 @@ class Frame:
             "time": self.time + 0.0,
             "bodies": bodies.dicts()
             if isinstance(bodies, FrameBodies)
-            else [{"name": b.name, "position": _vec(b.position), "velocity": _vec(b.velocity)} for b in bodies],
+            else [
+                {"name": b.name, "position": json_vector(b.position), "velocity": json_vector(b.velocity)}
+                for b in bodies
+            ],
         }
 
 
@@ -168,8 +166,8 @@ class Ledger:
             "potential_end": self.potential_end,
             "energy_start": self.energy_start,
             "energy_end": self.energy_end,
-            "momentum_start": _vec(self.momentum_start),
-            "momentum_end": _vec(self.momentum_end),
+            "momentum_start": json_vector(self.momentum_start),
+            "momentum_end": json_vector(self.momentum_end),
             "change_by_cause": {
                 "collisions": self.collisions,
                 "integrator": self.integrator,
@@ -332,8 +330,8 @@ class RunRecord:
             "collisions": self.collision_total,
             "steps": self.steps,
             "time": self.frames[-1].time if self.frames else 0.0,
-            "momentum_start": _vec(self.ledger.momentum_start),
-            "momentum_end": _vec(self.ledger.momentum_end),
+            "momentum_start": json_vector(self.ledger.momentum_start),
+            "momentum_end": json_vector(self.ledger.momentum_end),
             "kinetic_energy_start": self.ledger.kinetic_start,
             "kinetic_energy_end": self.ledger.kinetic_end,
             **({} if self.static_impulses is None else {"static_impulses": self.static_impulses}),
@@ -370,7 +368,7 @@ class RunRecord:
                 "dt": self.dt,
                 "steps": self.steps,
                 "restitution": self.restitution,
-                "gravity": _vec(self.gravity),
+                "gravity": json_vector(self.gravity),
                 **({"contacts": self.contacts} if self.contacts != "events" else {}),
             },
         }

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["exact_dot", "exact_sum", "squared_lengths"]
+__all__ = ["exact_dot", "exact_sum", "row_dots", "squared_lengths"]
 
 
 def exact_sum(values: Any) -> float:
@@ -40,14 +40,25 @@ def exact_dot(weights: Any, values: Any) -> float:
     return exact_sum(np.multiply(weights, values))
 
 
+def row_dots(rows: Any, other: Any) -> np.ndarray[Any, np.dtype[np.float64]]:
+    """``r . o`` for each row ``r`` of ``rows`` (``other``: rows alike, or one vector for all),
+    the products added left to right (no fused multiply-add).
+
+    >>> row_dots(np.array([[1.0, 2.0, 3.0], [0.0, 1.0, 0.0]]), np.array([0.0, -9.81, 0.0])).tolist()
+    [-19.62, -9.81]
+    """
+    rows = np.asarray(rows, dtype=np.float64)
+    other = np.broadcast_to(np.asarray(other, dtype=np.float64), rows.shape)
+    total = rows[:, 0] * other[:, 0]
+    for k in range(1, rows.shape[1]):
+        total = total + rows[:, k] * other[:, k]
+    return np.asarray(total, dtype=np.float64)
+
+
 def squared_lengths(rows: Any) -> np.ndarray[Any, np.dtype[np.float64]]:
-    """``|r|^2`` of each row, its components added left to right (no fused multiply-add).
+    """``|r|^2`` of each row (:func:`row_dots` of the rows with themselves).
 
     >>> squared_lengths(np.array([[3.0, 4.0, 0.0], [1.0, 1.0, 1.0]])).tolist()
     [25.0, 3.0]
     """
-    rows = np.asarray(rows, dtype=np.float64)
-    total = rows[:, 0] * rows[:, 0]
-    for k in range(1, rows.shape[1]):
-        total = total + rows[:, k] * rows[:, k]
-    return np.asarray(total, dtype=np.float64)
+    return row_dots(rows, rows)

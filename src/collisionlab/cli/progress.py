@@ -11,7 +11,7 @@ from collections.abc import Callable, Mapping
 
 from .streams import Streams
 
-__all__ = ["LOG_EVERY", "LOG_EVERY_VARIABLE", "REDRAW_EVERY", "SHOW_AFTER", "ProgressBar", "log_every"]
+__all__ = ["LOG_EVERY", "LOG_EVERY_VARIABLE", "REDRAW_EVERY", "SHOW_AFTER", "ProgressBar", "log_every", "log_interval"]
 
 #: Seconds a run must last before a bar appears: short runs print nothing extra.
 SHOW_AFTER = 1.0
@@ -50,6 +50,15 @@ def log_every(environ: Mapping[str, str] = os.environ) -> tuple[float, str | Non
     return seconds, None
 
 
+def log_interval(streams: Streams, quiet: bool) -> float:
+    """:func:`log_every` for a progress display on ``streams``: a bad value's warning goes to
+    stderr once, when the display would print lines to a log (not quiet, not a terminal)."""
+    seconds, warning = log_every()
+    if warning is not None and not quiet and not streams.err_terminal:
+        streams.err(warning)
+    return seconds
+
+
 class ProgressBar:
     """Callable as ``progress(done, total)``. On a terminal (``streams.err_terminal``) a bar
     redrawn in place after ``SHOW_AFTER`` seconds; else a line every ``LOG_EVERY`` seconds (none
@@ -65,9 +74,7 @@ class ProgressBar:
         self.started = clock()
         self.drawn = False
         self.last_draw = self.started
-        self.log_every, warning = log_every()
-        if warning is not None and not quiet and not streams.err_terminal:
-            streams.err(warning)
+        self.log_every = log_interval(streams, quiet)
 
     def __call__(self, done: int, total: int) -> None:
         if self.quiet:

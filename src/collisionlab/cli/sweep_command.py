@@ -17,7 +17,7 @@ from ..demos import builtin_sweep_path
 from ..errors import InvalidInputError
 from ..extras import require
 from .interrupts import Stopped, remembered_interrupts
-from .progress import REDRAW_EVERY, SHOW_AFTER, log_every
+from .progress import REDRAW_EVERY, SHOW_AFTER, log_interval
 from .run_command import positive_int
 from .streams import Streams
 
@@ -63,9 +63,7 @@ class _Progress:
         self.streams, self.quiet = streams, quiet
         self.last = time.monotonic()
         self.drawn = False
-        self.log_every, warning = log_every()
-        if warning is not None and not quiet and not streams.err_terminal:
-            streams.err(warning)
+        self.log_every = log_interval(streams, quiet)
 
     def __call__(self, done: int, total: int, elapsed: float, done_now: int) -> None:
         now = time.monotonic()

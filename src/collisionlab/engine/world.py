@@ -36,7 +36,7 @@ from ..errors import InvalidInputError
 from ..model import Scenario
 from ..numba_cache import compile_lock, compiled_notice, compiling_notice, gc_paused
 from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord
-from ..sums import exact_dot, squared_lengths
+from ..sums import exact_dot, row_dots, squared_lengths
 from ..vector import Vector3D
 from . import contact_kernels, exact_kernels, pair_separation, step_kernels
 from .contact_stepper import ContactStepper
@@ -281,11 +281,7 @@ class World:
     def potential_energy(self, masses: Any = None) -> float:
         """``-sum m g.x``: zero at the origin."""
         m = self._stored_masses() if masses is None else masses
-        pos, g = self._bodies.pos, self._gravity
-        heights = pos[:, 0] * g[0]
-        for k in range(1, pos.shape[1]):
-            heights = heights + pos[:, k] * g[k]
-        return -exact_dot(m, heights)
+        return -exact_dot(m, row_dots(self._bodies.pos, self._gravity))
 
     def energy(self) -> float:
         return self.kinetic_energy() + self.potential_energy()
@@ -384,7 +380,7 @@ class World:
             # will wait (on 2 cores, bench/README.md).
             exact = self._exact and not self.scenario.event_driven and not self._solving
             exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
-            self._notify(compiling_notice("exact" if exact else "euler"))
+            self._notify(compiling_notice("exact" if exact else "solve" if self._solving else "euler"))
         return compile_lock(Path(kernels.__file__ or ".").parent, stem)
 
     def step(self, steps: int = 1) -> None:
