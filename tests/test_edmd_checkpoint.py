@@ -26,9 +26,9 @@ import numpy as np
 import pytest
 
 from collisionlab.edmd import layout as L
+from collisionlab.edmd.arrays import STATE_ARRAYS
 from collisionlab.edmd.checkpoint import FORMAT, VERSION, CheckpointError, read_checkpoint, write_checkpoint
 from collisionlab.edmd.observables import run_end
-from collisionlab.edmd.world import STATE_ARRAYS
 from tests.cli_helpers import finish, run_cli
 
 #: The report's numbers that depend on the whole run (the rest: wall-clock times, memory and

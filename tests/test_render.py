@@ -1,4 +1,4 @@
-"""The text forms of a run (cli/render.py): the lab's aligned table with collision lines and the
+"""The text forms of a run (cli/render.py, cli/event_text.py): the lab's aligned table with collision lines and the
 summary, CSV and JSON. Records come from small scenarios whose numbers are easy by hand."""
 
 from __future__ import annotations
@@ -234,12 +234,12 @@ def test_a_worlds_event_blocks_print_as_its_events_do(
     # line for line: bodies against walls and against each other, signed zeros included.
     import numba  # noqa: F401  (the kernel is used only once numba is loaded)
 
-    from collisionlab.cli import render
+    from collisionlab.cli import event_text
     from collisionlab.cli.render import TableWriter
     from collisionlab.edmd.observables import ExactGas
     from collisionlab.engine.world import World
 
-    monkeypatch.setattr(render, "_COMPILED_EVENTS", compiled_from)
+    monkeypatch.setattr(event_text, "_COMPILED_EVENTS", compiled_from)
 
     world = World(ExactGas(n=80, dim=dim, fraction=0.3, time=4.0, seed=2).scenario(frames=8))
     streamed = io.StringIO()
@@ -257,15 +257,15 @@ def test_random_event_blocks_print_as_their_events_do(
     # of order): the block's text, by the kernel or by %, is the events' own lines one by one.
     import numba  # noqa: F401
 
-    from collisionlab.cli import render
+    from collisionlab.cli import event_text
     from tests.test_record import _block
 
-    monkeypatch.setattr(render, "_COMPILED_EVENTS", compiled_from)
+    monkeypatch.setattr(event_text, "_COMPILED_EVENTS", compiled_from)
     block = _block(700, seed)
     for dims in (2, 3):
-        texts = render._block_texts(block, dims)
+        texts = event_text.block_texts(block, dims)
         events = sorted(block, key=lambda event: event.step)  # stable: a step's events in order
-        lines = [line + "\n" for event in events for line in render._event_lines(event, dims, False)]
+        lines = [line + "\n" for event in events for line in event_text.event_lines(event, dims, False)]
         assert "".join(text for _, text in texts) == "".join(lines)
         assert [step for step, _ in texts] == sorted({event.step for event in events})
 
@@ -273,7 +273,7 @@ def test_random_event_blocks_print_as_their_events_do(
 def test_the_kernel_lays_out_a_block_in_pieces_as_whole() -> None:
     # A long block is laid out a piece of `size` events at a time; steps that straddle two
     # pieces come out whole, as the % form writes them (the oracle: Python's own formatting).
-    from collisionlab.cli import render
+    from collisionlab.cli import event_text
 
     rng = np.random.default_rng(3)
     n = 1000
@@ -282,9 +282,9 @@ def test_the_kernel_lays_out_a_block_in_pieces_as_whole() -> None:
     names = ["a", "bällchen", "c d", "e", "floor"]
     static = rng.random(n) < 0.3
     values = np.column_stack((steps * 0.01, rng.normal(size=(n, 6))))
-    whole = render._formatted_texts(steps, index, names, static, values, 3)
-    assert render._laid_out_texts(steps, index, names, static, values, 3, size=37) == whole
-    assert render._laid_out_texts(steps, index, names, static, values, 3) == whole
+    whole = event_text._formatted_texts(steps, index, names, static, values, 3)
+    assert event_text._laid_out_texts(steps, index, names, static, values, 3, size=37) == whole
+    assert event_text._laid_out_texts(steps, index, names, static, values, 3) == whole
 
 
 @pytest.mark.parametrize(("cached", "heard"), [(False, [COMPILE_NOTICE]), (True, [])])
@@ -298,11 +298,11 @@ def test_the_writers_say_once_that_their_kernel_compiles(
     import numba  # noqa: F401  (the table uses the kernel only once numba is loaded)
 
     from collisionlab import text_kernels
-    from collisionlab.cli import render
+    from collisionlab.cli import event_text, render
     from collisionlab.engine.world import World
 
     monkeypatch.setattr(text_kernels, "is_cached", lambda: cached)
-    monkeypatch.setattr(render, "_COMPILED_EVENTS", 1)
+    monkeypatch.setattr(event_text, "_COMPILED_EVENTS", 1)
     told: list[str] = []
     out = io.StringIO()
     writer = render.writer_for(fmt, out, notify=told.append)
@@ -323,7 +323,7 @@ def test_the_writers_say_when_their_kernel_has_compiled(monkeypatch: pytest.Monk
     import numba  # noqa: F401  (the table uses the kernel only once numba is loaded)
 
     from collisionlab import text_kernels
-    from collisionlab.cli import render
+    from collisionlab.cli import event_text, render
     from collisionlab.engine.world import World
 
     asked: list[bool] = []
@@ -333,7 +333,7 @@ def test_the_writers_say_when_their_kernel_has_compiled(monkeypatch: pytest.Monk
         return len(asked) > 1  # the notice's question: no; every later one: yes
 
     monkeypatch.setattr(text_kernels, "is_cached", is_cached)
-    monkeypatch.setattr(render, "_COMPILED_EVENTS", 1)
+    monkeypatch.setattr(event_text, "_COMPILED_EVENTS", 1)
     told: list[str] = []
     writer = render.writer_for(fmt, io.StringIO(), notify=told.append)
     World(load_demo("bouncing-ball")).run(observer=writer, keep=False)

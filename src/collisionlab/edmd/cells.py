@@ -1,7 +1,7 @@
 """Cell lists and neighbour lists of the event-driven engine.
 
 Each body keeps a list of the bodies whose list centres were within ``P_CUT`` (the shell, 1.4
-to 2 diameters, see ``world.shell_for``; Smallenburg's ``1 + alpha``) of its own when its list
+to 2 diameters, see ``tuning.shell_for``; Smallenburg's ``1 + alpha``) of its own when its list
 was last built, and an event to rebuild it when it has drifted ``P_SKIN = (P_CUT - sigma) / 2`` from its centre.
 Two bodies not on each other's lists are then always more than ``P_CUT - 2 P_SKIN = sigma``
 apart: they cannot collide, and only neighbours are ever tested. In a mixture each body's skin

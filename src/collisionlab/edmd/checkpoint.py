@@ -69,10 +69,11 @@ from numpy.typing import NDArray
 
 from ..errors import CollisionLabError, escape_controls
 from . import layout as L
+from .arrays import STATE_ARRAYS
 from .exact_gas import ExactGas, Species
 from .observables import observer_for
 from .structure import OBSERVABLES, OBSERVER_ARRAYS, Observer
-from .world import STATE_ARRAYS, EventDrivenWorld
+from .world import EventDrivenWorld
 
 __all__ = ["FORMAT", "VERSION", "Checkpoint", "CheckpointError", "read_checkpoint", "write_checkpoint"]
 

@@ -22,7 +22,7 @@ from ..numba_cache import compiled_once, forget_stale, holds, use_user_cache
 use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
 _HERE = Path(__file__).resolve().parent
 #: The package's compiled modules (the rest is plain Python around them).
-_COMPILED = ("calendar", "cells", "compile", "layout", "loop", "predict")
+_COMPILED = ("calendar", "cells", "collide", "compile", "layout", "loop", "predict", "schedule")
 _INLINED = (_HERE.parent / "engine" / "geometry_kernels.py", _HERE.parent / "tolerances.py")
 forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED])
 

@@ -101,7 +101,7 @@ __all__ = [
 # F: float64 per body. Position, velocity, their time and the collision counter come first:
 # they are what predicting a neighbour's collision reads (the counter of the neighbour that
 # becomes the partner), 64 contiguous bytes. A row is 128 bytes (2 columns unused), so that in
-# arrays that start on a cache line (world.aligned_zeros) those 64 bytes are one line in every
+# arrays that start on a cache line (arrays.aligned_zeros) those 64 bytes are one line in every
 # row: 96-byte rows put every other row's across two, and with a million bodies every
 # neighbour's row is a cache miss (1M, T = 4: 257 k collisions/s against 214 k/s with 96-byte
 # rows); the counters were in IX, one more miss for the partner's (1M: 216 k/s against 198 k/s).

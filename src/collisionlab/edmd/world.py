@@ -19,43 +19,15 @@ from ..errors import InvalidInputError
 from ..sums import exact_dot, exact_sum, squared_lengths
 from ..validate import non_negative, positive
 from . import layout as L
+from .arrays import ALIGNED, STATE_ARRAYS, aligned_zeros, morton_order
 from .loop import BUFFER_FULL, CELL_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
+from .tuning import BUFFER_EVENTS, CELL_SLOTS, EVENTS_PER_BLOCK, HORIZON, MIXED_REACH_2D, SHELL_MIN, shell_for
 
-__all__ = ["CACHE_LINE", "STATE_ARRAYS", "EventDrivenWorld", "EventSink", "Tally", "aligned_zeros", "shell_for"]
+__all__ = ["EventDrivenWorld", "EventSink", "Tally"]
 
 #: Receives a block of events, one row each: time, body a, body b (or ``-1 - wall``), impulse,
 #: and with ``run(..., working=True)`` the rest of the columns :mod:`.layout` documents.
 EventSink = Callable[[NDArray[np.float64]], None]
-
-#: Neighbour-list reach in diameters (Smallenburg's ``1 + alpha``; he uses 1.5) in 2D and under
-#: gravity (where the mean density says little about a pile's).
-SHELL = 1.7
-#: In 3D without gravity the reach follows the packing fraction: a wider shell means fewer list
-#: rebuilds but more neighbours to test at every prediction, and the balance moves to narrower
-#: shells as the fluid gets denser. ``SHELL_AT_QUARTER * (fraction / 0.25) ** -SHELL_EXPONENT``,
-#: within ``[SHELL_MIN, SHELL_MAX]``, was fitted to the fastest shells of bench/bench_edmd.py.
-#: ``SHELL_MAX`` keeps the reach within half of the smallest periodic box (4 diameters).
-SHELL_AT_QUARTER = 2.0
-SHELL_EXPONENT = 0.38
-SHELL_MIN = 1.4
-SHELL_MAX = 2.0
-#: A gas of discs of several sizes (no gravity) lists neighbours at least this many mean
-#: diameters beyond its largest contact distance (fitted in bench/bench_edmd.py --mixtures).
-MIXED_REACH_2D = 1.2
-#: Calendar: scheduled events per block of the near-future heap, and how many typical event
-#: times the ring of lists covers before the overflow list (tuned in bench/bench_edmd.py).
-EVENTS_PER_BLOCK = 8.0
-HORIZON = 4.0
-#: Slots of a cell's row (its count and up to 15 bodies, 256 bytes): doubled when one fills.
-CELL_SLOTS = 16
-#: Events held before a streamed block is handed to the sink.
-BUFFER_EVENTS = 1 << 16
-#: The arrays that hold a world's whole state (:meth:`EventDrivenWorld.state_arrays`): the
-#: bodies, their lists, cells and calendar, the parameters, accumulators and counters, the
-#: species' tallies and the storage order. ``CF`` is ``CI``'s memory read as float32.
-STATE_ARRAYS = ("F", "IX", "NB", "CI", "heap", "lists", "P", "Q", "G", "K", "S", "KS", "SE", "order")
-#: Those laid out on cache lines (:func:`aligned_zeros`), as the constructor makes them.
-_ALIGNED = ("F", "IX", "NB", "CI", "heap")
 
 
 @dataclass(frozen=True)
@@ -74,55 +46,6 @@ class Tally:
     energy_lost: float
     #: Pair collisions by species, ``[a][b]`` (symmetric; a mixture only, else empty).
     species_collisions: tuple[tuple[int, ...], ...] = ()
-
-
-def shell_for(dim: int, fraction: float, gravity: float) -> float:
-    """The neighbour-list reach in diameters for a box of packing ``fraction`` (see ``SHELL``).
-
-    >>> shell_for(3, 0.25, 0.0), shell_for(2, 0.25, 0.0), shell_for(3, 0.05, 0.0)
-    (2.0, 1.7, 2.0)
-    """
-    if dim != 3 or gravity > 0.0:
-        return SHELL
-    if fraction <= 0.0:
-        return SHELL_MAX
-    return min(SHELL_MAX, max(SHELL_MIN, SHELL_AT_QUARTER * float((fraction / 0.25) ** -SHELL_EXPONENT)))
-
-
-#: Bytes of a cache line: rows of the hot arrays start on one (see :func:`aligned_zeros`).
-CACHE_LINE = 64
-
-
-def aligned_zeros(shape: tuple[int, ...], dtype: type = np.float64) -> NDArray[Any]:
-    """Zeros whose first byte starts a cache line (numpy's own start 16 bytes into one, from
-    malloc). A row of ``F`` (128 bytes, see :mod:`.layout`) then holds the position, velocity
-    and times that a neighbour's prediction reads in one line, instead of across two; a
-    neighbour list of 32 (128 bytes) spans two lines, not three.
-
-    >>> a = aligned_zeros((3, 12))
-    >>> a.ctypes.data % CACHE_LINE, a.shape, a.dtype.name, float(a.sum())
-    (0, (3, 12), 'float64', 0.0)
-    """
-    size = int(np.prod(shape)) * np.dtype(dtype).itemsize
-    memory = np.zeros(size + CACHE_LINE, dtype=np.uint8)
-    skip = -memory.ctypes.data % CACHE_LINE
-    return memory[skip : skip + size].view(dtype).reshape(shape)
-
-
-def _morton_order(pos: NDArray[np.float64], cell: float) -> NDArray[np.int64]:
-    """Indices that sort ``pos`` by the Morton code of cells of side ``cell`` (ties by position).
-
-    >>> _morton_order(np.array([[3.0, 3.0], [0.0, 0.0], [3.0, 0.0], [0.0, 3.0]]), 2.0).tolist()
-    [1, 2, 3, 0]
-    """
-    n, dim = pos.shape
-    cells = np.floor((pos - pos.min(axis=0)) / cell).astype(np.uint64)
-    code = np.zeros(n, dtype=np.uint64)
-    for bit in range(63 // dim):
-        for k in range(dim):
-            code |= ((cells[:, k] >> np.uint64(bit)) & np.uint64(1)) << np.uint64(bit * dim + k)
-    keys = [pos[:, k] for k in reversed(range(dim))]
-    return np.lexsort((*keys, code)).astype(np.int64)
 
 
 class EventDrivenWorld:
@@ -199,7 +122,7 @@ class EventDrivenWorld:
             # One kind of ball lists neighbours within shell * sigma. A mixture lists them within
             # shell times its mean diameter (by number: most pairs are of the typical size),
             # and at least (SHELL_MIN - 1) mean diameters beyond its largest contact distance;
-            # each body's skin is then cut / 2 - r_i (see loop._predict), the small balls' the
+            # each body's skin is then cut / 2 - r_i (see schedule.predict_next), the small balls' the
             # larger. (A binary of radii 1 and 0.5 at fraction 0.3, 3D, N = 4,000, quick runs
             # on a busy machine: this cut ran about 0.49 M collisions/s; shell * sigma_max 0.33 M,
             # its small balls listing many neighbours they never meet. bench/bench_edmd.py
@@ -227,7 +150,7 @@ class EventDrivenWorld:
         # sit near each other in memory (a million bodies do not fit in any cache); ``order[k]`` is
         # the caller's index of stored body k. The key depends on positions only, never on the
         # caller's numbering, so a permutation of the input is stored the same way.
-        self.order = _morton_order(pos, cut)
+        self.order = morton_order(pos, cut)
         self.F[:, L.X : L.X + dim] = pos[self.order]
         self.F[:, L.V : L.V + dim] = vel[self.order]
         self.F[:, L.TLAST] = -math.inf
@@ -300,7 +223,7 @@ class EventDrivenWorld:
         world = cls.__new__(cls)
         for name in STATE_ARRAYS:
             source = arrays[name]
-            if name in _ALIGNED:
+            if name in ALIGNED:
                 copy = aligned_zeros(source.shape, source.dtype.type)
                 copy[...] = source
             else:
