@@ -14,7 +14,8 @@ from collisionlab.cli import progress as progress_module
 from collisionlab.cli.interrupts import Pending
 from collisionlab.cli.streams import Streams
 from collisionlab.engine import WorldParams
-from collisionlab.engine.world import CHUNK_SECONDS, World
+from collisionlab.engine.chunks import CHUNK_SECONDS
+from collisionlab.engine.world import World
 from collisionlab.particles import gas_scenario
 from tests.cli_helpers import finish, on_a_terminal, read_until, wait_for_cpu_seconds
 from tests.schema_check import check

@@ -354,8 +354,7 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
     import contextlib
     import gc
 
-    from collisionlab.engine import compiled
-    from collisionlab.engine import world as world_module
+    from collisionlab.engine import compiled, kernel_loading
 
     locked: list[str] = []
 
@@ -372,7 +371,7 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
         return cached
 
     monkeypatch.setattr(compiled, "is_cached", is_cached)
-    monkeypatch.setattr(world_module, "compile_lock", spy)
+    monkeypatch.setattr(kernel_loading, "compile_lock", spy)
     ball = Body("ball", Sphere((0, 1, 0), 0.5), velocity=(0, -1, 0))
     said: list[str] = []
     for mode in ("euler", "exact"):
@@ -502,7 +501,7 @@ def test_exact_chunks_stay_short_when_the_steps_slow_down() -> None:
     # progress count, the output and the event buffer (every row of a chunk) waited for it. On a
     # clock where steps cost 1 ms, then 100 ms from step 100, no chunk may pass the exact aim at
     # the pace of the last (EXACT_CHUNK_SECONDS: 25 steps of 1 ms), nor grow past one step after.
-    from collisionlab.engine.world import EXACT_CHUNK_SECONDS
+    from collisionlab.engine.chunks import EXACT_CHUNK_SECONDS
 
     world = World(load_scenario(EXAMPLES / "bouncing-ball.toml").with_settings(steps=200), WorldParams(compiled=True))
     assert not world.event_driven

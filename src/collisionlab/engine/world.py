@@ -24,8 +24,6 @@ import functools
 import math
 import time
 from collections.abc import Callable
-from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -34,14 +32,16 @@ from .. import limits
 from ..built_sequence import SequenceChain
 from ..errors import InvalidInputError
 from ..model import Scenario
-from ..numba_cache import compile_lock, compiled_notice, compiling_notice, gc_paused
+from ..numba_cache import compiled_notice
 from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord
 from ..sums import exact_dot, row_dots, squared_lengths
 from ..vector import Vector3D
 from . import contact_kernels, exact_kernels, pair_separation, step_kernels
+from .chunks import PileHint, next_chunk
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_stepper import ExactStepper
+from .kernel_loading import KernelCalls
 from .overlap import InitialOverlapError, find_overlaps, overlap_message
 from .params import COMPILE_ABOVE, SOLVE_COMPILE_ABOVE, WorldParams
 from .recorded_events import recorded_events
@@ -50,39 +50,11 @@ from .stepper import EulerStepper, near_pairs
 from .tunnelling import thickness, tunnelling
 
 __all__ = [
-    "CHUNK_BODY_STEPS",
-    "CHUNK_EVENT_ROWS",
-    "CHUNK_SECONDS",
-    "EXACT_CHUNK_SECONDS",
     "InitialOverlapError",
     "World",
     "load_stepper_kernels",
     "simulate",
 ]
-
-#: Seconds one compiled call aims to run before control returns (for progress and Ctrl-C, which
-#: is looked at between calls: it stops a run within a second).
-CHUNK_SECONDS = 0.25
-#: Exact mode with ``contacts = "events"`` under gravity: more impulses than this per body and
-#: step, over at least ``PILE_HINT_STEPS`` steps, is resting contact resolved as a stream of
-#: micro-impacts (a pile: tens of thousands per body-step), and the world says once that
-#: ``contacts = "solve"`` is made for it (30-60 circles settling: 105-253). The shipped examples
-#: in exact mode stay at 0.003-0.06 (a bouncing ball 0.06, a stack 0.02, a cradle 0.005).
-PILE_HINT_WORK = 100
-PILE_HINT_STEPS = 20
-#: What an exact stepper's chunk aims at instead: its steps can grow a hundredfold dearer within a
-#: few (2,000 circles landing in a pile: 64 steps took 0.18 s, the next 82 took 36 s, measured),
-#: so a chunk sized on fast steps must be short to stay within seconds when they slow down. (A
-#: chunk's call costs about 1 ms beside its steps: at this aim, a few per cent at most.)
-EXACT_CHUNK_SECONDS = CHUNK_SECONDS / 10
-#: Body-steps one exact chunk may hold (32 steps of 2,000 bodies): at its aim alone, steps of
-#: falling bodies (0.2 ms each for 2,000 circles) grew a chunk to 128 steps, and the bodies landed
-#: inside it (0.4 s a step: a chunk of a minute, 1.4M events). A few per cent more calls while
-#: steps are that cheap; worlds of a few bodies are not held back.
-CHUNK_BODY_STEPS = 1 << 16
-#: Event rows a chunk may produce, going by the last chunk's rate: the kernel keeps a chunk's rows
-#: (208 bytes each) until it returns, and a pile's steps make up to 100,000 impacts each.
-CHUNK_EVENT_ROWS = 1 << 20
 
 
 class World:
@@ -126,9 +98,6 @@ class World:
         self._storage_sorts = False
         self._gravity = np.array(settings.gravity.as_tuple())
         self._tunnel_warned = False
-        self._kernels: dict[bool, Any] = {}
-        self._called: set[str] = set()  # compiled kernels called once already (numba has loaded them)
-        self._said_compiling = False  # the notice is given once per world
         #: Where :meth:`run` sends what happens, and whether the record keeps it too.
         self._observer: RunObserver | None = None
         self._keep = True
@@ -159,7 +128,11 @@ class World:
         #: Exact mode with its contacts solved (``contacts = "solve"``): the contact stepper.
         self._solving = self._exact and settings.contacts == "solve" and not scenario.event_driven
         self._impact_limit_warned = False
-        self._pile_hint = [0, 0]  # impulses and steps since the last look; [-1, 0] once said
+        self._pile_hint = PileHint(n)
+        kind = "event-driven" if scenario.event_driven else "solve" if self._solving else settings.mode
+        self._calls = KernelCalls(kind, notify)  # the compiled kernels, and their first calls
+        #: Whether chunks are sized as an exact stepper's among obstacles (chunks.next_chunk).
+        self._exact_chunks = self._exact and not scenario.event_driven
         self._check_initial_overlap()
         self._stepper: EulerStepper | EventDrivenStepper | ContactStepper
         if self._solving:
@@ -221,7 +194,7 @@ class World:
         if not self._compiled or self.event_driven:
             return 0.0
         kind = "solve" if self._solving else "exact" if self._exact else "euler"
-        return load_stepper_kernels(kind, None if self._said_compiling else self._notify)
+        return load_stepper_kernels(kind, None if self._calls.said_compiling else self._notify)
 
     def impulses(self) -> tuple[int, int]:
         """Impulses applied so far between two bodies and between a body and an obstacle or
@@ -301,8 +274,8 @@ class World:
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
         large = self._bodies.n * max(1, self._statics.m) > COMPILE_ABOVE // 100
-        kernels = self._compiled_kernels(exact=False) if large else step_kernels
-        with self._first_call(kernels, "find_near"):
+        kernels = self._calls.module(stepper=False) if large else step_kernels
+        with self._calls.first_call(kernels, "find_near"):
             return near_pairs(kernels, self._bodies, self._statics, self.dims, self.params, margin)
 
     def _pair_names(self, a: int, b: int) -> tuple[str, str]:
@@ -343,46 +316,6 @@ class World:
         self._tunnel_warned = True
 
     # --- stepping -------------------------------------------------------------------------------
-    def _compiled_kernels(self, exact: bool = True) -> Any:
-        """The compiled step kernels, or (``exact`` in exact mode) the compiled exact or contact
-        kernels."""
-        from . import compiled
-
-        exact = exact and self._exact
-        if exact not in self._kernels:
-            with gc_paused():  # numba's import, its registries
-                if not exact:
-                    self._kernels[exact] = compiled.kernels()
-                else:
-                    self._kernels[exact] = compiled.contact_kernels() if self._solving else compiled.exact_kernels()
-        return self._kernels[exact]
-
-    def _first_call(self, kernels: ModuleType, entry: str) -> contextlib.AbstractContextManager[Any]:
-        """What surrounds the first call of a compiled kernel module's ``entry``, when numba
-        loads its code from the cache, or compiles it. A load runs with Python's collector
-        paused (numba makes objects that live until exit: :func:`~collisionlab.numba_cache.gc_paused`).
-        A compile is announced (once per world), and runs with the collector on (it makes garbage
-        for minutes) and under a lock that makes another process wanting the same kernels wait
-        and then load them rather than compile them too
-        (:func:`~collisionlab.numba_cache.compile_lock`)."""
-        from . import compiled
-
-        key = f"{kernels.__name__}.{entry}"
-        if "._compiled_" not in key or key in self._called:
-            return contextlib.nullcontext()
-        self._called.add(key)
-        stem = kernels.__name__.rpartition("._compiled_")[2]
-        if compiled.is_cached(stem, entry):
-            return gc_paused()
-        if self._notify is not None and not self._said_compiling:
-            self._said_compiling = True
-            # The exact stepper's kernel takes longest to compile: the notice says what the run
-            # will wait (on 2 cores, bench/README.md).
-            exact = self._exact and not self.scenario.event_driven and not self._solving
-            exact = exact and not compiled.is_cached("exact_kernels", "run_exact_steps")
-            self._notify(compiling_notice("exact" if exact else "solve" if self._solving else "euler"))
-        return compile_lock(Path(kernels.__file__ or ".").parent, stem)
-
     def step(self, steps: int = 1) -> None:
         """Advance ``steps`` steps of ``dt`` in the scenario's mode."""
         self._steps(steps)
@@ -419,9 +352,11 @@ class World:
         limited = int(stepper.status[0])
         work = int(stepper.status[1])
         python_form = contact_kernels if solving else exact_kernels
-        self._advance(steps, self._compiled_kernels() if self._compiled else python_form)
-        if not solving:
-            self._look_for_a_pile(int(stepper.status[1]) - work, steps)
+        self._advance(steps, self._calls.module() if self._compiled else python_form)
+        if not solving and any(self.scenario.settings.gravity.as_tuple()):
+            hint = self._pile_hint.look(int(stepper.status[1]) - work, steps, self.step_index)
+            if hint is not None:
+                self.record.warnings.append(hint)
         if int(stepper.status[0]) > limited and not self._impact_limit_warned:
             self._impact_limit_warned = True
             where = "a half step before step" if solving else "step"
@@ -431,29 +366,9 @@ class World:
                 "(said once; later steps may do the same)"
             )
 
-    def _look_for_a_pile(self, work: int, steps: int) -> None:
-        """Say once when exact mode resolves lasting contact as micro-impacts (``PILE_HINT_WORK``)."""
-        hint = self._pile_hint
-        if hint[0] < 0 or not any(self.scenario.settings.gravity.as_tuple()):
-            return
-        hint[0] += work
-        hint[1] += steps
-        if hint[1] < PILE_HINT_STEPS:
-            return
-        n = self._bodies.n
-        if hint[0] > PILE_HINT_WORK * n * hint[1]:
-            self.record.warnings.append(
-                f"bodies resting on each other: {hint[0] / (n * hint[1]):.3g} impulses per body and step up to step "
-                f'{self.step_index}, resting contact resolved as a stream of impacts; contacts = "solve" (or '
-                "--contacts solve) solves it as contact and lets piles come to rest (README, 'Piles, pours and stacks')"
-            )
-            hint[0] = -1
-            return
-        hint[0] = hint[1] = 0
-
     def _step_euler(self, steps: int) -> None:
         self._check_tunnelling()
-        self._advance(steps, self._compiled_kernels() if self._compiled else step_kernels)
+        self._advance(steps, self._calls.module() if self._compiled else step_kernels)
 
     def _advance(self, steps: int, kernels: Any) -> None:
         """Advance ``steps`` steps with the stepper and ``kernels`` (its Python or compiled form)
@@ -463,7 +378,7 @@ class World:
         call = functools.partial(
             self._stepper.advance, kernels, settings.dt, settings.restitution, self.step_index, steps
         )
-        with contextlib.nullcontext() if kernels is None else self._first_call(kernels, entry):
+        with contextlib.nullcontext() if kernels is None else self._calls.first_call(kernels, entry):
             if self._calling is None or not self.compiled:
                 call()
             else:  # the caller's way (the command line: a thread of its own while it waits for signals)
@@ -555,35 +470,10 @@ class World:
             if between is not None:
                 between(done, steps)
             if self.compiled and not gains:
-                chunk = self._next_chunk(chunk, count, took, self.record.collision_count - events)
+                events = self.record.collision_count - events
+                chunk = next_chunk(chunk, count, took, events, self._exact_chunks, self._bodies.n)
         self._settle()
         return spent
-
-    def _next_chunk(self, chunk: int, count: int, took: float, events: int) -> int:
-        """Steps for the next compiled call, after one of ``count`` steps (``chunk`` asked) took
-        ``took`` seconds and made ``events`` collision events: as many as would take
-        ``CHUNK_SECONDS`` at the last call's pace (``EXACT_CHUNK_SECONDS`` for the exact steppers
-        of bodies among obstacles, whose steps can slow down a hundredfold at once; not the
-        event-driven one's balls in a box, whose chunks hold ``CHUNK_BODY_STEPS`` body-steps at
-        most too), at most 4 times as many as the last, and about ``CHUNK_EVENT_ROWS`` events
-        at most.
-
-        >>> from collisionlab import Sphere
-        >>> from collisionlab.model import Body, Settings, Scenario
-        >>> euler = World(Scenario(Settings(dt=0.1, steps=10), (Body("b", Sphere((0, 0, 0), 1), (0, 0, 0)),)))
-        >>> euler._next_chunk(16, 16, 0.02, 0), euler._next_chunk(16, 16, 0.5, 0), euler._next_chunk(16, 16, 0.0, 0)
-        (64, 8, 64)
-        >>> euler._next_chunk(64, 64, 0.01, 64 * CHUNK_EVENT_ROWS // 2)  # events: 2 steps' worth at most
-        2
-        """
-        exact = self._exact and not self.event_driven
-        aim = EXACT_CHUNK_SECONDS if exact else CHUNK_SECONDS
-        steps = min(4 * chunk, int(count * aim / took)) if took > 0.0 else 4 * chunk
-        if exact:
-            steps = min(steps, CHUNK_BODY_STEPS // max(self._bodies.n, 1))
-        if events > 0:
-            steps = min(steps, count * CHUNK_EVENT_ROWS // events)
-        return max(1, steps)
 
     def run(
         self,
@@ -663,7 +553,8 @@ class World:
             told = len(self.record.warnings)
             if self.compiled:
                 took = time.perf_counter() - started
-                chunk = self._next_chunk(chunk, count, took, self.record.collision_count - events)
+                events = self.record.collision_count - events
+                chunk = next_chunk(chunk, count, took, events, self._exact_chunks, self._bodies.n)
             if framing:
                 frame = self._frame(positions, velocities)
                 if not self._keep and len(self.record.frames) > 1:
@@ -704,7 +595,6 @@ def load_stepper_kernels(kind: str, notify: Callable[[str], None] | None = None)
     already. (Here rather than in :mod:`.ahead`, which loads every kind of kernel: a world loading
     its own kernels reaches nothing above the engine.)"""
     from ..demos import load_demo
-    from .params import WorldParams
 
     if kind in _LOADED:
         return 0.0
