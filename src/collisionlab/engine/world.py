@@ -414,6 +414,28 @@ class World:
             self._observer.events(block, skipped, self.step_index)
 
     # --- running --------------------------------------------------------------------------------
+    def _chunk(self, count: int, look: bool, guard: limits.RangeGuard) -> tuple[Any, Any] | None:
+        """Step ``count`` steps (one compiled call, or ``count`` Python steps); with ``look``, bring
+        the arrays and the ledger up to date, check that the numbers stay in the range that can
+        be simulated (a warning in the record if not) and return the positions and velocities
+        (copies, in the order the bodies were given). A number past that range ends the run with
+        ``guard``'s error, naming the step."""
+        try:
+            self._steps(count)
+            if look:
+                self._settle()
+        except (InvalidInputError, ArithmeticError) as error:
+            if not limits.is_overflow(error):
+                raise
+            raise guard.overflowed(self.step_index, error) from None
+        if not look:
+            return None
+        positions, velocities = self.position_array, self.velocity_array  # for the guard and a frame
+        warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
+        if warning:
+            self.record.warnings.append(warning)
+        return positions, velocities
+
     def advance(
         self,
         steps: int,
@@ -452,21 +474,10 @@ class World:
             count = min(chunk, steps - done)
             events = self.record.collision_count
             started = clock()
-            try:
-                self._steps(count)
-                if watch:
-                    self._settle()
-            except (InvalidInputError, ArithmeticError) as error:
-                if not limits.is_overflow(error):
-                    raise
-                raise guard.overflowed(self.step_index, error) from None
+            self._chunk(count, watch, guard)
             took = clock() - started
             spent += took
             done += count
-            if watch:
-                warning = guard.check_arrays(self.step_index, self.time, self.position_array, self.velocity_array)
-                if warning:
-                    self.record.warnings.append(warning)
             if between is not None:
                 between(done, steps)
             if self.compiled and not gains:
@@ -534,19 +545,7 @@ class World:
             framing = count == to_frame or self.step_index + count == total
             events = self.record.collision_count
             started = time.perf_counter()
-            try:
-                self._steps(count)
-                if watch or framing:
-                    self._settle()
-            except (InvalidInputError, ArithmeticError) as error:
-                if not limits.is_overflow(error):
-                    raise
-                raise guard.overflowed(self.step_index, error) from None
-            if watch or framing:
-                positions, velocities = self.position_array, self.velocity_array  # for the guard and the frame
-                warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
-                if warning:
-                    self.record.warnings.append(warning)
+            arrays = self._chunk(count, watch or framing, guard)
             if observer is not None:
                 for text in self.record.warnings[told:]:
                     observer.warning(text)
@@ -556,7 +555,8 @@ class World:
                 events = self.record.collision_count - events
                 chunk = next_chunk(chunk, count, took, events, self._exact_chunks, self._bodies.n)
             if framing:
-                frame = self._frame(positions, velocities)
+                assert arrays is not None
+                frame = self._frame(*arrays)
                 if not self._keep and len(self.record.frames) > 1:
                     self.record.frames[-1] = frame  # the first and the latest only
                 else:
