@@ -145,14 +145,14 @@ def test_a_run_is_the_same_to_the_last_bit_however_its_steps_are_split() -> None
 
 @pytest.mark.parametrize("cached", [True, False])
 def test_the_event_driven_compile_is_said_only_when_it_happens(monkeypatch: pytest.MonkeyPatch, cached: bool) -> None:
-    """The first event-driven run on a machine compiles its loop for one to two minutes
+    """The first event-driven run on a machine compiles its loop for up to a minute
     (bench/README.md): the world says so where it was told to, and says nothing once cached."""
     from collisionlab.edmd import compile as edmd_compile
 
     monkeypatch.setattr(edmd_compile, "is_cached", lambda: cached)
     said: list[str] = []
     World(_pair(), notify=said.append)
-    notice = "compiling the event-driven kernels (once per machine; one to two minutes)..."
+    notice = "compiling the event-driven kernels (once per machine; up to a minute)..."
     assert said == ([] if cached else [notice])
 
 

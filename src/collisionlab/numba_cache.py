@@ -35,13 +35,14 @@ __all__ = [
 
 #: What a first compile takes on a 2-core machine, for each kind of kernels, as the notice says it
 #: (bench/README.md's ``collisionlab compile`` row and bench/LOG.md: Forward Euler 12-17 s, the
-#: solved contacts 44-55 s, exact mode's kernels 108-157 s, the event-driven loop 67-90 s, the
-#: writers' text kernel 1-2 s, from machine to machine of this kind).
+#: solved contacts 44-75 s, exact mode's kernels 108-157 s, the event-driven loop 24-29 s since
+#: its prediction is inlined once, the writers' text kernel 1-2 s, from machine to machine of
+#: this kind).
 COMPILE_TAKES: dict[str, str] = {
     "euler": "up to a minute",
     "solve": "up to a minute",
     "exact": "two to three minutes",
-    "event-driven": "one to two minutes",
+    "event-driven": "up to a minute",
     "text": "a few seconds",
 }
 #: What each kind is called in the notices.
@@ -59,7 +60,7 @@ def compiling_notice(kind: str) -> str:
     :data:`COMPILE_TAKES`): the one notice every loader gives.
 
     >>> compiling_notice("event-driven")
-    'compiling the event-driven kernels (once per machine; one to two minutes)...'
+    'compiling the event-driven kernels (once per machine; up to a minute)...'
     """
     return f"compiling {_CALLED[kind]} (once per machine; {COMPILE_TAKES[kind]})..."
 

@@ -1,5 +1,6 @@
 """What an event does to the bodies (compiled, inlined into the event loop, :mod:`.loop`): a pair
-:func:`collide`, or a body :func:`bounce` off a wall, by the engine's contact law with ``e``
+:func:`collide`, or a body :func:`bounce` off a wall (the loop then predicts the bodies' next
+events), by the engine's contact law with ``e``
 or, under the TC model, 1 (:func:`_restitution`); the ledger's sums, the species' tallies, and
 the event's row of the buffer (:func:`_record`, with ``run(..., working=True)`` the normal,
 contact point and velocities too). See the loop's docstring for the law and the TC model.
@@ -42,7 +43,7 @@ from .layout import (
     X,
 )
 from .predict import collision_loss, impulse_magnitude
-from .schedule import advance, predict_next
+from .schedule import advance
 
 __all__ = ["bounce", "collide"]
 
@@ -125,14 +126,17 @@ def collide(
     buf: Any,
     i: int,
     now: float,
-) -> None:
-    j = IX[i, PARTNER]
+) -> int:
+    """Body ``i`` meets the partner it was scheduled to hit at ``now``: both collide, or (the
+    partner collided since, or they no longer approach) the event is counted stale. The caller
+    then predicts ``i``'s next event, and the partner's if it is returned (-1: none); the
+    partner's scheduled event is out of the calendar already."""
+    j: int = IX[i, PARTNER]
     g = P[P_G]
     advance(F, i, now, g)
     if F[j, COUNT] != F[i, PCOUNT]:
         K[K_STALE] += 1
-        predict_next(heap, lists, F, IX, NB, P, Q, K, i, now)
-        return
+        return -1
     advance(F, j, now, g)
     dx = F[i, X] - F[j, X]
     dy = F[i, X + 1] - F[j, X + 1]
@@ -144,8 +148,7 @@ def collide(
     b = dx * (F[i, V] - F[j, V]) + dy * (F[i, V + 1] - F[j, V + 1]) + dz * (F[i, V + 2] - F[j, V + 2])
     if b >= 0.0:  # already moving apart (rounding at a grazing contact): nothing to do
         K[K_STALE] += 1
-        predict_next(heap, lists, F, IX, NB, P, Q, K, i, now)
-        return
+        return -1
     r2 = dx * dx + dy * dy + dz * dz
     r = math.sqrt(r2)
     e = _restitution(F, P, i, j, now)
@@ -213,27 +216,13 @@ def collide(
     F[j, COUNT] += 1.0
     K[K_PAIRS] += 1
     calendar_remove(heap, lists, F, IX, Q, K, j)
-    predict_next(heap, lists, F, IX, NB, P, Q, K, i, now)
-    predict_next(heap, lists, F, IX, NB, P, Q, K, j, now)
+    return j
 
 
 @jit_inline
-def bounce(
-    heap: Any,
-    lists: Any,
-    F: Any,
-    IX: Any,
-    NB: Any,
-    P: Any,
-    Q: Any,
-    G: Any,
-    K: Any,
-    S: Any,
-    SE: Any,
-    buf: Any,
-    i: int,
-    now: float,
-) -> None:
+def bounce(F: Any, IX: Any, P: Any, G: Any, K: Any, S: Any, SE: Any, buf: Any, i: int, now: float) -> None:
+    """Body ``i`` meets the wall it was scheduled to hit at ``now``: bounced off it (or, if it no
+    longer moves into the wall, counted stale); the caller then predicts ``i``'s next event."""
     wall = IX[i, PARTNER]
     advance(F, i, now, P[P_G])
     k = wall >> 1
@@ -245,7 +234,6 @@ def bounce(
     into = (v > 0.0) == high and v != 0.0
     if not into and not (floor and F[i, X + 1] <= r):  # not moving into this wall (any more)
         K[K_STALE] += 1
-        predict_next(heap, lists, F, IX, NB, P, Q, K, i, now)
         return
     e = _restitution(F, P, i, -1, now)
     inward = -1.0 if high else 1.0  # the wall's normal, towards the body
@@ -286,4 +274,3 @@ def bounce(
     F[i, TLAST] = now
     F[i, COUNT] += 1.0
     K[K_WALLS] += 1
-    predict_next(heap, lists, F, IX, NB, P, Q, K, i, now)

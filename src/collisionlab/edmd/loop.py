@@ -184,17 +184,24 @@ def run_events(
         handled += 1
         K[K_EVENTS] += 1
         kind = IX[i, KIND]
+        partner = -1
         if kind == KIND_PAIR:
-            collide(heap, lists, F, IX, NB, P, Q, G, K, S, KS, SE, buf, i, now)
+            partner = collide(heap, lists, F, IX, NB, P, Q, G, K, S, KS, SE, buf, i, now)
         elif kind == KIND_WALL:
-            bounce(heap, lists, F, IX, NB, P, Q, G, K, S, SE, buf, i, now)
+            bounce(F, IX, P, G, K, S, SE, buf, i, now)
         else:
             advance(F, i, now, P[P_G])
             K[K_NLIST] += 1
             status = rebuild_list(F, IX, NB, P, Q, CI, CF, i)
             if status != 0:
                 return status
+        # The next events of i, then of its partner if it collided: one copy of the prediction in
+        # the loop's code, which numba inlines where it is called (a copy at each of the seven
+        # places that predicted made the loop's compile several times longer and larger; the
+        # same prediction called, not inlined, ran slower: bench/LOG.md, "One prediction").
+        while i >= 0:
             predict_next(heap, lists, F, IX, NB, P, Q, K, i, now)
+            i, partner = partner, -1
 
 
 @jit
