@@ -1,9 +1,9 @@
 """What an event does to the bodies (compiled, inlined into the event loop, :mod:`.loop`): a pair
 :func:`collide`, or a body :func:`bounce` off a wall (the loop then predicts the bodies' next
-events), by the engine's contact law with ``e``
-or, under the TC model, 1 (:func:`_restitution`); the ledger's sums, the species' tallies, and
-the event's row of the buffer (:func:`_record`, with ``run(..., working=True)`` the normal,
-contact point and velocities too). See the loop's docstring for the law and the TC model.
+events), by the engine's contact law with ``e`` or, under the TC model, 1
+(:func:`_restitution`); the ledger's sums, the species' tallies, and the event's row of the
+buffer (:func:`_record`, with ``run(..., working=True)`` the normal, contact point and
+velocities too). See the loop's docstring for the law and the TC model.
 """
 
 from __future__ import annotations
@@ -115,7 +115,6 @@ def collide(
     lists: Any,
     F: Any,
     IX: Any,
-    NB: Any,
     P: Any,
     Q: Any,
     G: Any,

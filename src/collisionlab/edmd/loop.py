@@ -186,7 +186,7 @@ def run_events(
         kind = IX[i, KIND]
         partner = -1
         if kind == KIND_PAIR:
-            partner = collide(heap, lists, F, IX, NB, P, Q, G, K, S, KS, SE, buf, i, now)
+            partner = collide(heap, lists, F, IX, P, Q, G, K, S, KS, SE, buf, i, now)
         elif kind == KIND_WALL:
             bounce(F, IX, P, G, K, S, SE, buf, i, now)
         else:
