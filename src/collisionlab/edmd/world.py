@@ -21,7 +21,7 @@ from ..validate import non_negative, positive
 from . import layout as L
 from .arrays import ALIGNED, STATE_ARRAYS, aligned_zeros, morton_order
 from .loop import BUFFER_FULL, CELL_FULL, EVENT_LIMIT, LIST_FULL, max_overlap_now, run_events, start, synchronize
-from .tuning import BUFFER_EVENTS, CELL_SLOTS, EVENTS_PER_BLOCK, HORIZON, MIXED_REACH_2D, SHELL_MIN, shell_for
+from .tuning import BUFFER_EVENTS, CELL_SLOTS, EVENTS_PER_BLOCK, HORIZON, cell_counts, list_reach
 
 __all__ = ["EventDrivenWorld", "EventSink", "Tally"]
 
@@ -109,33 +109,7 @@ class EventDrivenWorld:
             raise InvalidInputError("gravity", "needs walls (a periodic box has no floor)")
         if self.gravity > 0 and self.tc <= 0:
             raise InvalidInputError("tc", "must be > 0 under gravity (the shortest flight off the floor)")
-        # sigma: the largest contact distance, the sum of the two largest radii (one ball: 2 r)
-        top = np.sort(radii)[-2:] if n > 1 else np.array([self.radius, self.radius])
-        sigma = 2.0 * self.radius if not self.mixed else float(top[0] + top[1])
-        if self.mixed:
-            volume = float(np.sum(math.pi * radii**2 if dim == 2 else 4.0 / 3.0 * math.pi * radii**3))
-        else:
-            ball = math.pi * self.radius**2 if dim == 2 else 4.0 / 3.0 * math.pi * self.radius**3
-            volume = n * ball
-        self.shell = shell_for(dim, volume / float(np.prod(box)), self.gravity)
-        if self.mixed:
-            # One kind of ball lists neighbours within shell * sigma. A mixture lists them within
-            # shell times its mean diameter (by number: most pairs are of the typical size),
-            # and at least (SHELL_MIN - 1) mean diameters beyond its largest contact distance;
-            # each body's skin is then cut / 2 - r_i (see schedule.predict_next), the small balls' the
-            # larger. (A binary of radii 1 and 0.5 at fraction 0.3, 3D, N = 4,000, quick runs
-            # on a busy machine: this cut ran about 0.49 M collisions/s; shell * sigma_max 0.33 M,
-            # its small balls listing many neighbours they never meet. bench/bench_edmd.py
-            # --mixtures compares a mixture with one kind of ball.)
-            mean_sigma = 2.0 * float(radii.mean())
-            cut = max(self.shell * mean_sigma, sigma + (SHELL_MIN - 1.0) * mean_sigma)
-            if dim == 2 and self.gravity == 0.0:
-                # Discs rebuild their lists far more often than spheres: a wider reach pays (a
-                # binary, N = 4,000, fraction 0.3: 3.0 rebuilds per collision at the 3D rule, 1.1
-                # at this one; bench/LOG.md). At most 2 sigma: half the narrowest periodic box.
-                cut = min(2.0 * sigma, max(cut, sigma + MIXED_REACH_2D * mean_sigma))
-        else:
-            cut = self.shell * sigma
+        self.shell, sigma, cut = list_reach(radii, dim, box, self.gravity)
         if self.periodic and np.any(box < 4.0 * sigma):
             raise InvalidInputError("sides", "a periodic box must be at least 4 diameters wide", got=box.tolist())
         if self.periodic:
@@ -189,11 +163,7 @@ class EventDrivenWorld:
         self.Q[L.Q_DIM] = dim
         self.Q[L.Q_PERIODIC] = int(self.periodic)
         self.Q[L.Q_NC : L.Q_NC + 3] = 1
-        # Cells at least one reach wide; no more than about one per 2 bodies (a sparse box): each
-        # cell's row holds room for CELL_SLOTS - 1 bodies, 256 bytes, 128 bytes a body at most.
-        cells = np.maximum(1, np.floor(box / cut)).astype(np.int64)
-        while int(np.prod(cells)) > n // 2 + 27 and np.any(cells > 1):
-            cells = np.maximum(1, (cells * 0.8).astype(np.int64))
+        cells = cell_counts(box, cut, n)
         self.Q[L.Q_NC : L.Q_NC + dim] = cells
         self.P[L.P_INV_H : L.P_INV_H + dim] = cells / box
         self._cells(int(np.prod(cells)), CELL_SLOTS)
