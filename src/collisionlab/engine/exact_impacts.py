@@ -219,12 +219,12 @@ def _impacts(
         if a >= 0:
             ef._advance(a, when, pos, vel, acc, tau, ima, gravity, ledger)
         ef._advance(b, when, pos, vel, acc, tau, ima, gravity, ledger)
+        sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
         if expiry:
             # A sliding rest's support has turned (er._support_expiry): no impulse; the gap
             # its straight flight opened is closed (the held body moved onto its holder,
             # as push-apart moves bodies: momentum kept, the energy in ledger[2]) and its
             # bodies are looked at again below, as kicked bodies are.
-            sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
             if 0.0 < sep[0] <= contact_margin:
                 held = b if a < 0 or ima[a] == 0.0 or nsup[a] > 0 else a
                 sign = -1.0 if held == b else 1.0
@@ -241,7 +241,6 @@ def _impacts(
                     n_kicked += 1
                     is_kicked[i] = 1
         else:
-            sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
             st._remember(sep_ev, sep_val, c, ev, sep)
             ver[c] += 1
             if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
