@@ -96,11 +96,7 @@ def run_exact(args: argparse.Namespace, streams: Streams) -> int:
                 types = Types.one_kind(gas.n, gas.radius)
                 write = files.enter_context(open_trajectory(args, side, gas.boundary == "periodic", types))
                 report = run_exact_gas(gas, world, watch.between, frames=frames, write_frame=write, calling=watch.call)
-            if args.events is not None:
-                report["events_file"] = args.events
-            if frames:
-                report["trajectory"], report["trajectory_frames"] = args.trajectory, frames
-        report["compile_seconds"] = compile_seconds
+        _note_outputs(report, args, frames, compile_seconds)
     except OSError as err:
         return cannot_write(streams, args, err)
     finally:
@@ -111,6 +107,16 @@ def run_exact(args: argparse.Namespace, streams: Streams) -> int:
         if not plot_balls(args, streams, gas, state, types, tuple(float(x) for x in side), report):
             return 1
     return emit_report(args, streams, report)
+
+
+def _note_outputs(report: dict[str, Any], args: argparse.Namespace, frames: int, compile_seconds: float) -> None:
+    """The report's entries for what the run wrote beside it (``--events``, ``--trajectory``)
+    and the compile's seconds, timed apart from the run."""
+    if args.events is not None:
+        report["events_file"] = args.events
+    if frames:
+        report["trajectory"], report["trajectory_frames"] = args.trajectory, frames
+    report["compile_seconds"] = compile_seconds
 
 
 def plot_balls(
@@ -358,11 +364,7 @@ def run_mixture(
                 report = run_on_world(
                     gas, balls, watch.between, watch.call, sink, observer=observer, frames=frames, write_frame=write
                 )
-            if args.events is not None:
-                report["events_file"] = args.events
-            if frames:
-                report["trajectory"], report["trajectory_frames"] = args.trajectory, frames
-        report["compile_seconds"] = compile_seconds
+        _note_outputs(report, args, frames, compile_seconds)
     except OutOfRangeError as err:
         streams.err(f"{PROG}: {err}")
         return 65

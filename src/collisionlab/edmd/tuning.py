@@ -68,7 +68,7 @@ def shell_for(dim: int, fraction: float, gravity: float) -> float:
 def list_reach(
     radii: NDArray[np.float64], dim: int, box: NDArray[np.float64], gravity: float
 ) -> tuple[float, float, float]:
-    """The neighbour lists of balls of ``radii`` in a box of ``sides``: ``(shell, sigma, cut)``,
+    """The neighbour lists of balls of ``radii`` in a box of sides ``box``: ``(shell, sigma, cut)``,
     the reach in diameters (:func:`shell_for`), the largest contact distance (the sum of the two
     largest radii; one ball: 2 r) and the distance within which a ball lists its neighbours.
 

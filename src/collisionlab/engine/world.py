@@ -193,8 +193,7 @@ class World:
         event-driven world (its loop loads when the world is made) and when loaded already."""
         if not self._compiled or self.event_driven:
             return 0.0
-        kind = "solve" if self._solving else "exact" if self._exact else "euler"
-        return load_stepper_kernels(kind, None if self._calls.said_compiling else self._notify)
+        return load_stepper_kernels(self._calls.kind, None if self._calls.said_compiling else self._notify)
 
     def impulses(self) -> tuple[int, int]:
         """Impulses applied so far between two bodies and between a body and an obstacle or
