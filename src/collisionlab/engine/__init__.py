@@ -36,6 +36,8 @@ Euler) or exactly.
   :mod:`collisionlab.edmd`: neighbour lists, an event calendar), for ``mode = "exact"``.
 * :mod:`.world` - :class:`World`: owns the state, steps it, records what happened and tells it
   to an observer as it happens.
+  Its bases: :mod:`.world_runs` (runs in chunks of steps) and :mod:`.world_readings` (what it
+  reads of its state).
 """
 
 from __future__ import annotations

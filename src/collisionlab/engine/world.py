@@ -1,4 +1,6 @@
-"""The stateful simulation: a :class:`World` owns a scenario's state in arrays and steps it.
+"""The stateful simulation: a :class:`World` owns a scenario's state in arrays and steps it. Its
+runs in chunks (:meth:`World.run`, :meth:`World.advance`) are :mod:`.world_runs`', what it reads of
+its state (positions, energies, frames) :mod:`.world_readings`'.
 
 Two steppers act on the same state:
 
@@ -28,16 +30,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import limits
 from ..built_sequence import SequenceChain
-from ..errors import InvalidInputError
 from ..model import Scenario
 from ..numba_cache import compiled_notice
-from ..record import CollisionEvent, Frame, FrameBodies, RunObserver, RunRecord
-from ..sums import exact_dot, row_dots, squared_lengths
-from ..vector import Vector3D
+from ..record import CollisionEvent, RunObserver, RunRecord
 from . import contact_kernels, exact_kernels, pair_separation, step_kernels
-from .chunks import PileHint, next_chunk
+from .chunks import PileHint
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
 from .exact_stepper import ExactStepper
@@ -48,6 +46,7 @@ from .recorded_events import recorded_events
 from .state import bodies_of, static_names, statics_of
 from .stepper import EulerStepper, near_pairs
 from .tunnelling import thickness, tunnelling
+from .world_runs import WorldRuns
 
 __all__ = [
     "InitialOverlapError",
@@ -57,7 +56,7 @@ __all__ = [
 ]
 
 
-class World:
+class World(WorldRuns):
     """A running simulation. Build it from a scenario, then :meth:`step` or :meth:`run`.
 
     >>> from collisionlab import Sphere, Plane
@@ -176,16 +175,6 @@ class World:
         counters, for measurements such as a gas's collision virial)."""
         return self._stepper
 
-    @property
-    def event_driven(self) -> bool:
-        """Whether the world steps event by event (:mod:`collisionlab.engine.event_stepper`)."""
-        return isinstance(self._stepper, EventDrivenStepper)
-
-    @property
-    def compiled(self) -> bool:
-        """Whether the world runs compiled kernels (numba), not their Python form."""
-        return self._compiled or self.event_driven
-
     def load_kernels(self) -> float:
         """Load the compiled kernels this world's steps call (or compile them, the first time on
         a machine, saying so), now rather than in the first step, so that a timed run never
@@ -213,62 +202,6 @@ class World:
         """Tell ``observer`` the events of every later :meth:`step` as they are produced (what
         :meth:`run` does for its own observer); ``None`` stops it."""
         self._observer = observer
-
-    # --- state, in the order the bodies were given --------------------------------------------
-    def _given_order(self, stored: np.ndarray[Any, np.dtype[np.float64]]) -> np.ndarray[Any, np.dtype[np.float64]]:
-        if not self._storage_sorts:
-            return stored.copy()
-        out = np.empty_like(stored)
-        out[self._bodies.ids] = stored
-        return out
-
-    @property
-    def position_array(self) -> np.ndarray[Any, np.dtype[np.float64]]:
-        """Positions ``(n, 3)`` in the order the bodies were given (a copy)."""
-        return self._given_order(self._bodies.pos)
-
-    @property
-    def velocity_array(self) -> np.ndarray[Any, np.dtype[np.float64]]:
-        """Velocities ``(n, 3)`` in the order the bodies were given (a copy)."""
-        return self._given_order(self._bodies.vel)
-
-    @property
-    def positions(self) -> list[Vector3D]:
-        return [Vector3D(*row) for row in self.position_array.tolist()]
-
-    @property
-    def velocities(self) -> list[Vector3D]:
-        return [Vector3D(*row) for row in self.velocity_array.tolist()]
-
-    def _stored_masses(self) -> Any:
-        """The masses in storage order, a kinematic body's (infinite) as 0: it adds nothing to the
-        sums of energy and momentum."""
-        masses = self._finite_masses
-        return masses[self._bodies.ids] if self._storage_sorts else masses
-
-    def kinetic_energy(self, masses: Any = None) -> float:
-        m = self._stored_masses() if masses is None else masses
-        return 0.5 * exact_dot(m, squared_lengths(self._bodies.vel))
-
-    def potential_energy(self, masses: Any = None) -> float:
-        """``-sum m g.x``: zero at the origin."""
-        m = self._stored_masses() if masses is None else masses
-        return -exact_dot(m, row_dots(self._bodies.pos, self._gravity))
-
-    def energy(self) -> float:
-        return self.kinetic_energy() + self.potential_energy()
-
-    def momentum(self, masses: Any = None) -> Vector3D:
-        m = self._stored_masses() if masses is None else masses
-        v = self._bodies.vel
-        return Vector3D(*(exact_dot(m, v[:, k]) for k in range(v.shape[1])))
-
-    def frame(self) -> Frame:
-        return self._frame(self.position_array, self.velocity_array)
-
-    def _frame(self, position_array: Any, velocity_array: Any) -> Frame:
-        # The arrays are the world's copies (position_array); body states are built only if read.
-        return Frame(self.step_index, self.time, FrameBodies(self._names, position_array, velocity_array))
 
     # --- checks -----------------------------------------------------------------------------------
     def _near(self, margin: float) -> tuple[np.ndarray[Any, np.dtype[np.int64]], np.ndarray[Any, np.dtype[np.float64]]]:
@@ -411,160 +344,6 @@ class World:
             self.record.skipped.extend(skipped)
         if self._observer is not None:
             self._observer.events(block, skipped, self.step_index)
-
-    # --- running --------------------------------------------------------------------------------
-    def _chunk(self, count: int, look: bool, guard: limits.RangeGuard) -> tuple[Any, Any] | None:
-        """Step ``count`` steps (one compiled call, or ``count`` Python steps); with ``look``, bring
-        the arrays and the ledger up to date, check that the numbers stay in the range that can
-        be simulated (a warning in the record if not) and return the positions and velocities
-        (copies, in the order the bodies were given). A number past that range ends the run with
-        ``guard``'s error, naming the step."""
-        try:
-            self._steps(count)
-            if look:
-                self._settle()
-        except (InvalidInputError, ArithmeticError) as error:
-            if not limits.is_overflow(error):
-                raise
-            raise guard.overflowed(self.step_index, error) from None
-        if not look:
-            return None
-        positions, velocities = self.position_array, self.velocity_array  # for the guard and a frame
-        warning = guard.check_arrays(self.step_index, self.time, positions, velocities)
-        if warning:
-            self.record.warnings.append(warning)
-        return positions, velocities
-
-    def advance(
-        self,
-        steps: int,
-        between: Callable[[int, int], None] | None = None,
-        clock: Callable[[], float] = time.perf_counter,
-        calling: Callable[[Callable[[], None]], None] | None = None,
-    ) -> float:
-        """:meth:`step` ``steps`` times in chunks of about ``CHUNK_SECONDS`` of compiled work
-        (one step at a time in Python form), checking after each that the numbers stay in the
-        range that can be simulated and calling ``between(done, steps)`` (where a caller shows
-        progress and looks for Ctrl-C). No frames are made. Returns the seconds spent stepping
-        (``clock``'s). ``calling(call)``, if given, makes each compiled call (``call()``: the
-        stepper's kernels over one chunk) as :meth:`run`'s does."""
-        guard = limits.RangeGuard(self.scenario)
-        gains = self.scenario.energy_warning() is not None  # e > 1: speeds grow, look every step
-        # Balls in a box with e <= 1 stay in their box at speeds their energy bounds: the
-        # event-driven stepper then copies its state (O(N)) only at the end, not every chunk.
-        watch = gains or not self.event_driven
-        self._calling = calling
-        try:
-            return self._advance_chunks(steps, between, clock, guard, gains, watch)
-        finally:
-            self._calling = None
-
-    def _advance_chunks(
-        self,
-        steps: int,
-        between: Callable[[int, int], None] | None,
-        clock: Callable[[], float],
-        guard: limits.RangeGuard,
-        gains: bool,
-        watch: bool,
-    ) -> float:
-        done, chunk, spent = 0, 1, 0.0
-        while done < steps:
-            count = min(chunk, steps - done)
-            events = self.record.collision_count
-            started = clock()
-            self._chunk(count, watch, guard)
-            took = clock() - started
-            spent += took
-            done += count
-            if between is not None:
-                between(done, steps)
-            if self.compiled and not gains:
-                events = self.record.collision_count - events
-                chunk = next_chunk(chunk, count, took, events, self._exact_chunks, self._bodies.n)
-        self._settle()
-        return spent
-
-    def run(
-        self,
-        every: int = 1,
-        progress: Callable[[int, int], None] | None = None,
-        observer: RunObserver | None = None,
-        keep: bool = True,
-        calling: Callable[[Callable[[], None]], None] | None = None,
-    ) -> RunRecord:
-        """Run the remaining steps; keep a frame every ``every`` steps (and the first and last).
-        ``progress(done, total)`` is called between chunks of steps. ``observer`` is told every
-        frame, event and warning as it is produced (:class:`~collisionlab.record.RunObserver`);
-        with ``keep=False`` the record then holds no events and only the first and latest
-        frames (its counts and ledger stay whole), so memory does not grow with the run.
-        ``calling(call)``, if given, makes each compiled call instead of ``call()`` (``call``: the
-        stepper's kernels over one chunk of steps, nothing else): the command line runs it in a
-        thread of its own and waits, ready for a signal, since a chunk cannot be stopped inside."""
-        total = self.scenario.settings.steps
-        if keep:
-            limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
-        guard = limits.RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
-        self._observer, self._keep, self._calling = observer, keep, calling
-        if not self._exact:
-            self._check_tunnelling()  # known before the first frame, so it heads the output
-        if observer is not None:
-            observer.begin(self.record)
-        told = len(self.record.warnings)
-        if not self.record.frames:
-            self.record.frames.append(self.frame())
-            if observer is not None:
-                observer.frame(self.record.frames[0])
-        try:
-            self._run_chunks(total, every, progress, guard, told)
-        finally:
-            self._observer, self._keep, self._calling = None, True, None
-        if observer is not None:
-            observer.end(self.record)
-        return self.record
-
-    def _run_chunks(
-        self,
-        total: int,
-        every: int,
-        progress: Callable[[int, int], None] | None,
-        guard: limits.RangeGuard,
-        told: int,
-    ) -> None:
-        observer = self._observer
-        # Balls in a box with e <= 1 stay in the box, their speeds bounded by their energy: the
-        # event-driven stepper's state (O(N)) is then read only for frames (see advance()).
-        watch = self.scenario.energy_warning() is not None or not self.event_driven
-        # Steps per call: one for the Python forms; compiled, as many as take about
-        # CHUNK_SECONDS, learnt as it goes, so progress and Ctrl-C are never far away.
-        chunk = 1
-        while self.step_index < total:
-            to_frame = every - self.step_index % every
-            count = min(to_frame, chunk, total - self.step_index)
-            framing = count == to_frame or self.step_index + count == total
-            events = self.record.collision_count
-            started = time.perf_counter()
-            arrays = self._chunk(count, watch or framing, guard)
-            if observer is not None:
-                for text in self.record.warnings[told:]:
-                    observer.warning(text)
-            told = len(self.record.warnings)
-            if self.compiled:
-                took = time.perf_counter() - started
-                events = self.record.collision_count - events
-                chunk = next_chunk(chunk, count, took, events, self._exact_chunks, self._bodies.n)
-            if framing:
-                assert arrays is not None
-                frame = self._frame(*arrays)
-                if not self._keep and len(self.record.frames) > 1:
-                    self.record.frames[-1] = frame  # the first and the latest only
-                else:
-                    self.record.frames.append(frame)
-                if observer is not None:
-                    observer.frame(frame)
-            if progress is not None:
-                progress(self.step_index, total)
-        self._settle()
 
 
 def simulate(scenario: Scenario, every: int = 1, params: WorldParams | None = None) -> RunRecord:
