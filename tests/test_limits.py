@@ -44,7 +44,7 @@ def test_a_speed_that_grows_out_of_range_stops_the_run_naming_the_step_and_the_b
 
 
 def test_the_guard_names_the_body_and_the_bound() -> None:
-    from collisionlab.limits import RangeGuard
+    from collisionlab.run_guard import RangeGuard
     from collisionlab.vector import Vector3D
 
     guard = RangeGuard(_ball_between_walls(1.0))

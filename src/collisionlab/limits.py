@@ -7,7 +7,7 @@ simulation forms (``m v^2``, ``m g x``, the squared distances of time of impact)
 overflow, and the absolute tolerances of :mod:`collisionlab.tolerances` (nanometres) still
 resolve the scene. A run whose numbers grow out of range anyway (restitution above 1 adds energy
 at each collision) stops with :class:`~collisionlab.errors.OutOfRangeError` at that step
-(:class:`RangeGuard`), so no output ever holds ``inf`` or ``NaN``.
+(:class:`~collisionlab.run_guard.RangeGuard`), so no output ever holds ``inf`` or ``NaN``.
 
 The bounds (SI units):
 
@@ -58,7 +58,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from .body_block import Bodies, BodyBlock, BodyColumns
-from .errors import InvalidInputError, OutOfRangeError
+from .errors import InvalidInputError
 from .tolerances import MAX_RUN_SPEED as _MAX_RUN_SPEED
 from .validate import non_negative, positive, whole_number
 from .vector import Vector3D
@@ -84,15 +84,15 @@ __all__ = [
     "MIN_GAS_TIME",
     "MIN_MASS",
     "MIN_SIZE",
-    "RangeGuard",
     "ScenarioNumbers",
     "check_frames",
     "check_scenario",
     "check_vector",
+    "closing_speed",
     "dt",
     "gas_balls",
     "gas_time",
-    "is_overflow",
+    "reach",
     "restitution",
     "steps",
     "within",
@@ -308,7 +308,7 @@ def check_scenario(scenario: ScenarioNumbers, columns: BodyColumns | None = None
         _check_travel(scenario, scenario.bodies.columns() if columns is None else columns)
 
 
-def _closing(speeds: Sequence[float]) -> float:
+def closing_speed(speeds: Sequence[float]) -> float:
     """The fastest two bodies can close on each other: the sum of the two largest speeds."""
     top = sorted(speeds, reverse=True)[:2]
     return sum(top)
@@ -320,7 +320,7 @@ def _smallest_halves(scenario: ScenarioNumbers, columns: BodyColumns) -> Any:
     return np.where(columns.kind <= 1, columns.ext[:, 0], columns.ext[:, :dims].min(axis=1))
 
 
-def _reach(scenario: ScenarioNumbers, columns: BodyColumns | None = None) -> float:
+def reach(scenario: ScenarioNumbers, columns: BodyColumns | None = None) -> float:
     """How far bodies may close in one step in exact mode: ``MAX_TRAVEL_PER_SIZE`` times the
     smallest sum of two bodies' sizes (radius, or half the shortest edge), the distance at which
     time of impact must resolve a touch; a lone body against obstacles, its own size."""
@@ -329,12 +329,12 @@ def _reach(scenario: ScenarioNumbers, columns: BodyColumns | None = None) -> flo
 
 
 def _check_travel(scenario: ScenarioNumbers, columns: BodyColumns) -> None:
-    """Exact mode: two bodies may close by at most ``_reach`` in one step, else time of impact
+    """Exact mode: two bodies may close by at most ``reach`` in one step, else time of impact
     cannot resolve the touch (measured: it misses beyond ~1e7 sizes per step)."""
     velocities = columns.vel
     speeds = np.sqrt(np.einsum("ij,ij->i", velocities, velocities))
-    travel = _closing(np.sort(speeds)[-2:].tolist()) * scenario.settings.dt
-    if travel > _reach(scenario, columns):
+    travel = closing_speed(np.sort(speeds)[-2:].tolist()) * scenario.settings.dt
+    if travel > reach(scenario, columns):
         fastest = int(np.argmax(speeds))
         raise InvalidInputError(
             _body_field(scenario, fastest, "velocity"),
@@ -375,93 +375,3 @@ def _check_block(block: BodyBlock, where: str) -> None:
         within(block.mass, f"{where}.mass", MIN_MASS, MAX_MASS, "kg")
     if block.restitution is not None:
         within(block.restitution, f"{where}.restitution", 0.0, MAX_RESTITUTION)
-
-
-class RangeGuard:
-    """Watches a run step by step: positions and speeds stay within ``MAX_RUN_COORDINATE`` and
-    ``MAX_RUN_SPEED`` (else :class:`OutOfRangeError`), and in exact mode a warning is given once
-    when bodies come to move too far per step for time of impact to resolve."""
-
-    def __init__(self, scenario: ScenarioNumbers) -> None:
-        self.names = scenario.bodies.names()
-        self.dt = scenario.settings.dt
-        self.exact = scenario.settings.mode == "exact"
-        self.reach = _reach(scenario)
-        self.warned = False
-
-    def check(
-        self, step: int, time: float, positions: Sequence[Vector3D], velocities: Sequence[Vector3D]
-    ) -> str | None:
-        """Raise when a body left the range; return a warning (once) when exact mode may miss."""
-        speeds = []
-        for name, x, v in zip(self.names, positions, velocities, strict=True):
-            if max(abs(x.x), abs(x.y), abs(x.z)) > MAX_RUN_COORDINATE:
-                raise OutOfRangeError(
-                    f"step {step} (t = {time:g} s): '{name}' reached position {_short(x)}, beyond the "
-                    f"{MAX_RUN_COORDINATE:g} m collisionlab simulates: the scenario's numbers are too large to simulate"
-                )
-            if max(abs(v.x), abs(v.y), abs(v.z)) > MAX_RUN_SPEED:
-                raise OutOfRangeError(
-                    f"step {step} (t = {time:g} s): '{name}' reached velocity {_short(v)}, beyond the "
-                    f"{MAX_RUN_SPEED:g} m/s collisionlab simulates: the scenario's numbers are too large to simulate "
-                    "(restitution above 1 adds energy at every collision)"
-                )
-            speeds.append(v.length())
-        return self._travel_warning(step, _closing(speeds)) if self.exact and not self.warned else None
-
-    def _travel_warning(self, step: int, closing: float) -> str | None:
-        """A warning (once) when bodies closing at ``closing`` m/s outrun time of impact."""
-        if closing * self.dt <= self.reach:
-            return None
-        self.warned = True
-        return (
-            f"from step {step} bodies close by {closing * self.dt:.3g} m per step, more than "
-            f"{MAX_TRAVEL_PER_SIZE:g} times the smallest body's size: time of impact may miss collisions; "
-            "use a smaller dt"
-        )
-
-    def check_arrays(self, step: int, time: float, positions: Any, velocities: Any) -> str | None:
-        """:meth:`check` on arrays ``(n, 3)`` in the order the bodies were given, with no Python
-        loop over the bodies (a NaN counts as out of range)."""
-        inside = (np.max(np.abs(positions), axis=1) <= MAX_RUN_COORDINATE) & (
-            np.max(np.abs(velocities), axis=1) <= MAX_RUN_SPEED
-        )
-        if not np.all(inside):
-            i = int(np.argmin(inside))
-            if np.all(np.isfinite(positions[i])) and np.all(np.isfinite(velocities[i])):
-                x, v = Vector3D(*positions[i].tolist()), Vector3D(*velocities[i].tolist())
-                self._one(i, step, time, x, v)  # raises, naming the position or the speed
-            raise OutOfRangeError(
-                f"step {step} (t = {time:g} s): '{self.names[i]}' reached a number that overflowed: the "
-                "scenario's numbers are too large to simulate"
-            )
-        if not self.exact or self.warned:
-            return None
-        speeds = np.sqrt(np.einsum("ij,ij->i", velocities, velocities))
-        return self._travel_warning(step, float(np.sort(speeds)[-2:].sum()))
-
-    def _one(self, i: int, step: int, time: float, x: Vector3D, v: Vector3D) -> None:
-        """:meth:`check` for body ``i`` alone (raises with its name)."""
-        names, self.names = self.names, [self.names[i]]
-        try:
-            self.check(step, time, [x], [v])
-        finally:
-            self.names = names
-
-    def overflowed(self, step: int, error: Exception) -> OutOfRangeError:
-        """The error for a number that overflowed during ``step`` (``error`` says which)."""
-        return OutOfRangeError(
-            f"step {step}: a number overflowed ({error}): the scenario's numbers are too large to simulate"
-        )
-
-
-def _short(v: Vector3D) -> str:
-    return "(" + ", ".join(f"{c:.3g}" for c in v) + ")"
-
-
-def is_overflow(error: Exception) -> bool:
-    """Whether an error raised during a step is a number that overflowed (inf or NaN)."""
-    if isinstance(error, ArithmeticError):
-        return True
-    got = getattr(error, "got", None)
-    return isinstance(error, InvalidInputError) and isinstance(got, float) and not math.isfinite(got)

@@ -1,7 +1,7 @@
 """How a world runs: :meth:`~WorldRuns.run` (frames every ``every`` steps, observers, progress)
 and :meth:`~WorldRuns.advance` (no frames), both in chunks of steps (one compiled call each,
 sized by :func:`.chunks.next_chunk`), each chunk checked for numbers past the range that can be
-simulated (:mod:`collisionlab.limits`). :class:`WorldRuns` is one of
+simulated (:mod:`collisionlab.run_guard`). :class:`WorldRuns` is one of
 :class:`~collisionlab.engine.world.World`'s bases: the world steps (``_steps``) and brings its
 arrays up to date (``_settle``); this file only calls them, chunk by chunk, and keeps the record.
 """
@@ -12,10 +12,11 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from .. import limits
 from ..errors import InvalidInputError
+from ..limits import check_frames
 from ..model import Scenario
 from ..record import RunObserver, RunRecord
+from ..run_guard import RangeGuard, is_overflow
 from .chunks import next_chunk
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
@@ -59,7 +60,7 @@ class WorldRuns(WorldReadings):
         """Whether the world runs compiled kernels (numba), not their Python form."""
         return self._compiled or self.event_driven
 
-    def _chunk(self, count: int, look: bool, guard: limits.RangeGuard) -> tuple[Any, Any] | None:
+    def _chunk(self, count: int, look: bool, guard: RangeGuard) -> tuple[Any, Any] | None:
         """Step ``count`` steps (one compiled call, or ``count`` Python steps); with ``look``, bring
         the arrays and the ledger up to date, check that the numbers stay in the range that can
         be simulated (a warning in the record if not) and return the positions and velocities
@@ -70,7 +71,7 @@ class WorldRuns(WorldReadings):
             if look:
                 self._settle()
         except (InvalidInputError, ArithmeticError) as error:
-            if not limits.is_overflow(error):
+            if not is_overflow(error):
                 raise
             raise guard.overflowed(self.step_index, error) from None
         if not look:
@@ -94,7 +95,7 @@ class WorldRuns(WorldReadings):
         progress and looks for Ctrl-C). No frames are made. Returns the seconds spent stepping
         (``clock``'s). ``calling(call)``, if given, makes each compiled call (``call()``: the
         stepper's kernels over one chunk) as :meth:`run`'s does."""
-        guard = limits.RangeGuard(self.scenario)
+        guard = RangeGuard(self.scenario)
         gains = self.scenario.energy_warning() is not None  # e > 1: speeds grow, look every step
         # Balls in a box with e <= 1 stay in their box at speeds their energy bounds: the
         # event-driven stepper then copies its state (O(N)) only at the end, not every chunk.
@@ -110,7 +111,7 @@ class WorldRuns(WorldReadings):
         steps: int,
         between: Callable[[int, int], None] | None,
         clock: Callable[[], float],
-        guard: limits.RangeGuard,
+        guard: RangeGuard,
         gains: bool,
         watch: bool,
     ) -> float:
@@ -149,8 +150,8 @@ class WorldRuns(WorldReadings):
         thread of its own and waits, ready for a signal, since a chunk cannot be stopped inside."""
         total = self.scenario.settings.steps
         if keep:
-            limits.check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
-        guard = limits.RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
+            check_frames(total, every, self._bodies.n)  # the kept frames must fit in memory
+        guard = RangeGuard(self.scenario)  # numbers stay in the range that can be simulated
         self._observer, self._keep, self._calling = observer, keep, calling
         if not self._exact:
             self._check_tunnelling()  # known before the first frame, so it heads the output
@@ -174,7 +175,7 @@ class WorldRuns(WorldReadings):
         total: int,
         every: int,
         progress: Callable[[int, int], None] | None,
-        guard: limits.RangeGuard,
+        guard: RangeGuard,
         told: int,
     ) -> None:
         observer = self._observer
