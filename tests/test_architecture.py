@@ -48,6 +48,7 @@ COLLISION_LAYER = (
     "collisionlab.sums",  # exactly rounded sums (the ledger's energies, any machine alike)
     "collisionlab.engine.geometry_kernels",  # the narrow phase and contact law as scalar kernels
     "collisionlab.toi",  # times of impact, through the exact stepper's kernels
+    "collisionlab.toi_search",  # toi.py's search (the exact stepper's time of impact, scaled)
     "collisionlab.engine.shape_rows",  # a shape as a row of the kernels' arrays
     "collisionlab.engine.exact_kernels",  # the exact stepper's loop, and the files of its phases:
     "collisionlab.engine.exact_flight",
