@@ -228,3 +228,18 @@ def test_separate_static_body_does_not_move(
 ) -> None:
     pa2, pb2 = separate(pa, pb, INF if a_static else m, m if a_static else INF, normal, depth)
     assert (pa2 == pa) if a_static else (pb2 == pb)
+
+
+def test_the_velocity_update_every_stepper_makes_is_lab_eq_24_worked_by_hand() -> None:
+    # geometry_kernels.pushed_velocity is the one velocity update (Euler, exact and contact
+    # steppers, the event loop's wall bounce, this module). A 2 kg ball at (3, -4) m/s onto a
+    # floor (n = (0, 1)), e = 0.5: j = -(1 + 0.5)(-4) / (1/2) = 12 N s, v_y' = -4 + 12 * 0.5 * 1
+    # = 2 m/s (eq. 24: -e v_y); v_x' = 3 + 12 * 0.5 * 0 = 3 m/s.
+    from collisionlab.engine.geometry_kernels import pushed_velocity
+
+    assert pushed_velocity(-4.0, 12.0, 0.5, 1.0) == 2.0
+    assert pushed_velocity(3.0, 12.0, 0.5, 0.0) == 3.0
+    # The other body of a pair gets -j: A (1 kg) at 1 m/s, j = 1.5 N s along n = (1, 0, 0) from A
+    # to B: 1 - 1.5 * 1 = -0.5 m/s (momentum: B's +1.5 / m_b balances it).
+    assert pushed_velocity(1.0, -1.5, 1.0, 1.0) == -0.5
+    assert pushed_velocity(7.0, 5.0, 0.0, 1.0) == 7.0  # an infinite mass does not move

@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from .engine.geometry_kernels import impulse_magnitude
+from .engine.geometry_kernels import impulse_magnitude, pushed_velocity
 from .errors import InvalidInputError
 from .validate import non_negative, positive_or_inf
 from .vector import Vector3D, VectorLike, as_vector
@@ -37,7 +37,7 @@ def reflect_velocity(velocity: VectorLike, normal: VectorLike, restitution: floa
     n = as_vector(normal, "normal").normalized("normal")
     e = non_negative(restitution, "restitution")
     # A static surface has infinite mass: 1/m_a + 1/m_b = 1/m, and v += (j/m) n with j/m as below.
-    return v + n * impulse_magnitude(v.dot(n), 1.0, e)
+    return _pushed(v, impulse_magnitude(v.dot(n), 1.0, e), 1.0, n)
 
 
 def resolve_collision(
@@ -79,7 +79,12 @@ def resolve_collision(
     if vn >= 0.0:
         return va, vb
     j = impulse_magnitude(vn, inverse_a + inverse_b, e)
-    return va - n * (j * inverse_a), vb + n * (j * inverse_b)
+    return _pushed(va, -j, inverse_a, n), _pushed(vb, j, inverse_b, n)
+
+
+def _pushed(v: Vector3D, impulse: float, inverse_mass: float, n: Vector3D) -> Vector3D:
+    """``v + (j / m) n``, each component by the steppers' own kernel."""
+    return Vector3D(*(pushed_velocity(c, impulse, inverse_mass, d) for c, d in zip(v, n, strict=True)))
 
 
 def separate(

@@ -33,6 +33,7 @@ __all__ = [
     "floor_time",
     "impulse_magnitude",
     "leave_time",
+    "pushed_velocity",
     "wall_time",
 ]
 
@@ -46,6 +47,7 @@ __all__ = [
 contact_time = jit_inline(gk.time_of_impact_ball_ball)
 impulse_magnitude = jit_inline(gk.impulse_magnitude)
 collision_loss = jit_inline(gk.collision_loss)
+pushed_velocity = jit_inline(gk.pushed_velocity)
 
 
 @jit_call

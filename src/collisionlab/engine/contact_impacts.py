@@ -128,12 +128,12 @@ def _flight(
         for k in range(3):
             before[k] = vel[a, k] if a >= 0 else 0.0
             before[3 + k] = vel[b, k]
-            vb = vel[b, k] + j * ima[b] * sep[1 + k]
+            vb = gk.pushed_velocity(vel[b, k], j, ima[b], sep[1 + k])
             if ima[b] > 0.0:
                 kinetic += (vb * vb - vel[b, k] * vel[b, k]) / ima[b]
             vel[b, k] = vb
             if a >= 0:
-                va = vel[a, k] - j * ima_a * sep[1 + k]
+                va = gk.pushed_velocity(vel[a, k], -j, ima_a, sep[1 + k])
                 if ima_a > 0.0:
                     kinetic += (va * va - vel[a, k] * vel[a, k]) / ima_a
                 vel[a, k] = va

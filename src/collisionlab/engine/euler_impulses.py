@@ -150,16 +150,16 @@ def _impulses(
         before[5] = vel[b, 2]
         if a >= 0 and ima_a > 0.0:
             kinetic_before += (vax * vax + vay * vay + vaz * vaz) / ima_a
-            vel[a, 0] = vax - nx * ja
-            vel[a, 1] = vay - ny * ja
-            vel[a, 2] = vaz - nz * ja
+            vel[a, 0] = gk.pushed_velocity(vax, -j, ima_a, nx)
+            vel[a, 1] = gk.pushed_velocity(vay, -j, ima_a, ny)
+            vel[a, 2] = gk.pushed_velocity(vaz, -j, ima_a, nz)
             kinetic_after += (vel[a, 0] * vel[a, 0] + vel[a, 1] * vel[a, 1] + vel[a, 2] * vel[a, 2]) / ima_a
             changed[a] = tick
         if ima[b] > 0.0:
             kinetic_before += (before[3] * before[3] + before[4] * before[4] + before[5] * before[5]) / ima[b]
-            vel[b, 0] = before[3] + nx * jb
-            vel[b, 1] = before[4] + ny * jb
-            vel[b, 2] = before[5] + nz * jb
+            vel[b, 0] = gk.pushed_velocity(before[3], j, ima[b], nx)
+            vel[b, 1] = gk.pushed_velocity(before[4], j, ima[b], ny)
+            vel[b, 2] = gk.pushed_velocity(before[5], j, ima[b], nz)
             kinetic_after += (vel[b, 0] * vel[b, 0] + vel[b, 1] * vel[b, 1] + vel[b, 2] * vel[b, 2]) / ima[b]
             changed[b] = tick
         ledger[1] += 0.5 * (kinetic_after - kinetic_before)

@@ -100,15 +100,15 @@ def _kick(
     kinetic = 0.0
     if a >= 0 and ima[a] > 0.0:
         before = vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2
-        vel[a, 0] += ax * j * ima[a]
-        vel[a, 1] += ay * j * ima[a]
-        vel[a, 2] += az * j * ima[a]
+        vel[a, 0] = gk.pushed_velocity(vel[a, 0], j, ima[a], ax)
+        vel[a, 1] = gk.pushed_velocity(vel[a, 1], j, ima[a], ay)
+        vel[a, 2] = gk.pushed_velocity(vel[a, 2], j, ima[a], az)
         kinetic += 0.5 * (vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2 - before) / ima[a]
     if ima[b] > 0.0:
         before = vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2
-        vel[b, 0] += bx * j * ima[b]
-        vel[b, 1] += by * j * ima[b]
-        vel[b, 2] += bz * j * ima[b]
+        vel[b, 0] = gk.pushed_velocity(vel[b, 0], j, ima[b], bx)
+        vel[b, 1] = gk.pushed_velocity(vel[b, 1], j, ima[b], by)
+        vel[b, 2] = gk.pushed_velocity(vel[b, 2], j, ima[b], bz)
         kinetic += 0.5 * (vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2 - before) / ima[b]
     ledger[1] += kinetic
     if impact:

@@ -27,6 +27,7 @@ __all__ = [
     "first_root",
     "impulse_magnitude",
     "norm3",
+    "pushed_velocity",
     "separation_ball_ball",
     "separation_ball_box",
     "separation_boundary_ball",
@@ -349,6 +350,23 @@ def collision_loss(normal_speed: float, inverse_mass_sum: float, restitution: fl
     (0.0, 9.0)
     """
     return 0.5 * (1.0 - restitution * restitution) * normal_speed * normal_speed / inverse_mass_sum
+
+
+def pushed_velocity(velocity: float, impulse: float, inverse_mass: float, direction: float) -> float:
+    """One component of a body's velocity after an impulse: ``v' = v + (j / m) n``, ``n`` the unit
+    direction it is pushed in (lab eqs. 12 and 15 along the line of action: B gets ``+j`` along the
+    normal from A to B, A gets ``-j``; eq. 24 off a static surface). Every stepper's impulse and
+    the scalar API's (:mod:`collisionlab.resolution`) move a velocity through here, one component
+    at a time. An infinite mass (``inverse_mass`` 0) is not moved by it.
+
+    >>> pushed_velocity(-2.0, 3.0, 1.0, 1.0)     # 1 kg off a wall at 2 m/s, e = 0.5: j = 3 N s
+    1.0
+    >>> pushed_velocity(1.0, -2.0, 0.5, 1.0)     # A (2 kg) gets -j: 1 - 2 / 2
+    0.0
+    >>> pushed_velocity(4.0, 3.0, 0.0, 1.0)      # a kinematic body
+    4.0
+    """
+    return velocity + impulse * inverse_mass * direction
 
 
 def impulse_magnitude(normal_speed: float, inverse_mass_sum: float, restitution: float) -> float:
