@@ -46,7 +46,8 @@ COLLISION_LAYER = (
     "collisionlab.validate",
     "collisionlab.textformat",  # how Vector3D writes its numbers
     "collisionlab.sums",  # exactly rounded sums (the ledger's energies, any machine alike)
-    "collisionlab.engine.geometry_kernels",  # the narrow phase and contact law as scalar kernels
+    "collisionlab.engine.geometry_kernels",  # the narrow phase as scalar kernels
+    "collisionlab.engine.contact_law",  # the contact law as scalar kernels
     "collisionlab.toi",  # times of impact, through the exact stepper's kernels
     "collisionlab.toi_search",  # toi.py's search (the exact stepper's time of impact, scaled)
     "collisionlab.engine.shape_rows",  # a shape as a row of the kernels' arrays

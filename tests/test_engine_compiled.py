@@ -57,6 +57,7 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
     ]
     assert set(dropped) == {
         "geometry_kernels",
+        "contact_law",
         "event_heap",
         "step_kernels",
         "exact_kernels",
@@ -80,10 +81,10 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
     assert {"exact_impulses.py", "geometry_kernels.py"} <= set(dropped["exact_rest"])
     # The same for the contact stepper: its loop holds every file of its phases; the quadratic
     # program is held by the solve and push-apart, and calls no other file but the contact law's
-    # velocity update (geometry_kernels.pushed_velocity).
+    # velocity update (contact_law.pushed_velocity).
     assert {f"{stem}.py" for stem in contact} <= set(dropped["contact_kernels"])
     assert {"contact_qp.py", "contact_memory.py", "non_literal.py"} <= set(dropped["contact_solver"])
-    assert set(dropped["contact_qp"]) == {"contact_qp.py", "geometry_kernels.py", "tolerances.py", "compiled.py"}
+    assert set(dropped["contact_qp"]) == {"contact_qp.py", "contact_law.py", "tolerances.py", "compiled.py"}
     assert "contact_solver.py" not in dropped["contact_islands"]  # not dropped for another phase's edit
     assert "exact_impacts.py" not in dropped["exact_rest"]  # a file is not dropped for its callers' edits
     assert all({"compiled.py", "tolerances.py"} <= set(names) for names in dropped.values())

@@ -231,11 +231,11 @@ def test_separate_static_body_does_not_move(
 
 
 def test_the_velocity_update_every_stepper_makes_is_lab_eq_24_worked_by_hand() -> None:
-    # geometry_kernels.pushed_velocity is the one velocity update (Euler, exact and contact
+    # contact_law.pushed_velocity is the one velocity update (Euler, exact and contact
     # steppers, the event loop's wall bounce, this module). A 2 kg ball at (3, -4) m/s onto a
     # floor (n = (0, 1)), e = 0.5: j = -(1 + 0.5)(-4) / (1/2) = 12 N s, v_y' = -4 + 12 * 0.5 * 1
     # = 2 m/s (eq. 24: -e v_y); v_x' = 3 + 12 * 0.5 * 0 = 3 m/s.
-    from collisionlab.engine.geometry_kernels import pushed_velocity
+    from collisionlab.engine.contact_law import pushed_velocity
 
     assert pushed_velocity(-4.0, 12.0, 0.5, 1.0) == 2.0
     assert pushed_velocity(3.0, 12.0, 0.5, 0.0) == 3.0

@@ -9,7 +9,7 @@
 
 from __future__ import annotations
 
-from .engine.geometry_kernels import impulse_magnitude, pushed_velocity
+from .engine.contact_law import impulse_magnitude, pushed_velocity
 from .errors import InvalidInputError
 from .validate import non_negative, positive_or_inf
 from .vector import Vector3D, VectorLike, as_vector

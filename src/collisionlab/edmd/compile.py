@@ -23,7 +23,8 @@ use_user_cache()  # before numba is first imported: its cache goes to the user's
 _HERE = Path(__file__).resolve().parent
 #: The package's compiled modules (the rest is plain Python around them).
 _COMPILED = ("calendar", "cells", "collide", "compile", "layout", "loop", "predict", "schedule")
-_INLINED = (_HERE.parent / "engine" / "geometry_kernels.py", _HERE.parent / "tolerances.py")
+#: The engine's files the loop inlines (:mod:`.predict`: two balls' time of impact, the contact law).
+_INLINED = tuple(_HERE.parent / f for f in ("engine/geometry_kernels.py", "engine/contact_law.py", "tolerances.py"))
 forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED])
 
 import numba  # noqa: E402  (after the cache folder is set)

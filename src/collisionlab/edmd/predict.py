@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 
+from ..engine import contact_law as cl
 from ..engine import geometry_kernels as gk
 from .compile import jit_call, jit_inline
 
@@ -45,9 +46,9 @@ __all__ = [
 #: source shares numba's cache entry for a function compiled on its own, and a process that
 #: loaded this one from it would look for that copy's module.
 contact_time = jit_inline(gk.time_of_impact_ball_ball)
-impulse_magnitude = jit_inline(gk.impulse_magnitude)
-collision_loss = jit_inline(gk.collision_loss)
-pushed_velocity = jit_inline(gk.pushed_velocity)
+impulse_magnitude = jit_inline(cl.impulse_magnitude)
+collision_loss = jit_inline(cl.collision_loss)
+pushed_velocity = jit_inline(cl.pushed_velocity)
 
 
 @jit_call

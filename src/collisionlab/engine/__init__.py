@@ -1,8 +1,10 @@
 """The engine: one world that owns its state in arrays and steps it, the lab's way (Forward
 Euler) or exactly.
 
-* :mod:`.geometry_kernels` - the narrow phase, the contact law and two balls' time of impact as
-  scalar kernels, written once: the scalar API calls them as Python, the steppers compiled.
+* :mod:`.geometry_kernels` - the narrow phase and two balls' time of impact as scalar kernels,
+  written once: the scalar API calls them as Python, the steppers compiled.
+* :mod:`.contact_law` - the contact law, each rule once (restitution, impulse, velocity update,
+  the ledger's loss term), the same way.
 * :mod:`.params` - :class:`WorldParams`, every tunable of a world in one typed object.
 * :mod:`.state` - the structure of arrays a world steps, built from a scenario.
 * :mod:`.step_kernels` - the Forward Euler stepper over arrays: its loop; one file per phase it

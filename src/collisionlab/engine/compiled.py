@@ -114,7 +114,7 @@ def _calls(stem: str) -> list[str]:
     imports, and theirs.
 
     >>> _calls("exact_rest")
-    ['exact_impulses', 'geometry_kernels', 'pair_separation']
+    ['contact_law', 'exact_impulses', 'geometry_kernels', 'pair_separation']
     """
     found: set[str] = set()
     for callee in _imports(stem):

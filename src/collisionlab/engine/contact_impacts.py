@@ -8,7 +8,7 @@ again from there.
 
 Owns ``MAX_IMPACTS_PER_STEP``, ``MAX_BODY_IMPACTS``, what a flight returns with (``DONE``,
 ``RESTART``), a pair's prediction (:func:`_predict`) and the flight (:func:`_flight`). It imports
-:mod:`.geometry_kernels`, :mod:`.non_literal`, :mod:`.pair_separation` (the pair's restitution),
+:mod:`.contact_law`, :mod:`.non_literal`, :mod:`.pair_separation` (the pair's restitution),
 :mod:`.event_rows`, :mod:`.event_heap`, :mod:`.contact_flight`, :mod:`.contact_time_of_impact` and
 :mod:`.contact_islands` (waking); it must not import the candidates, the solve, push-apart or the
 loop.
@@ -20,8 +20,8 @@ from typing import Any
 
 import numpy as np
 
-if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
-    gk: Any = globals()["_GEOMETRY"]
+if "_CONTACT_LAW" in globals():  # the compiled copy: the kernels it calls are compiled too
+    cl: Any = globals()["_CONTACT_LAW"]
     evr: Any = globals()["_EVENT_ROWS"]
     nl: Any = globals()["_NON_LITERAL"]
     ps: Any = globals()["_PAIR_SEPARATION"]
@@ -32,10 +32,10 @@ if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are comp
 else:
     from . import contact_flight as fl
     from . import contact_islands as il
+    from . import contact_law as cl
     from . import contact_time_of_impact as ct
     from . import event_heap as eh
     from . import event_rows as evr
-    from . import geometry_kernels as gk
     from . import non_literal as nl
     from . import pair_separation as ps
 
@@ -123,24 +123,24 @@ def _flight(
         if inv_sum == 0.0:
             continue
         e = ps._pair_e(eb[a] if a >= 0 else s_e[-1 - a], eb[b], e_default) if most < MAX_BODY_IMPACTS else 0.0
-        j = gk.impulse_magnitude(vn, inv_sum, e)
+        j = cl.impulse_magnitude(vn, inv_sum, e)
         kinetic = 0.0
         for k in range(3):
             before[k] = vel[a, k] if a >= 0 else 0.0
             before[3 + k] = vel[b, k]
-            vb = gk.pushed_velocity(vel[b, k], j, ima[b], sep[1 + k])
+            vb = cl.pushed_velocity(vel[b, k], j, ima[b], sep[1 + k])
             if ima[b] > 0.0:
                 kinetic += (vb * vb - vel[b, k] * vel[b, k]) / ima[b]
             vel[b, k] = vb
             if a >= 0:
-                va = gk.pushed_velocity(vel[a, k], -j, ima_a, sep[1 + k])
+                va = cl.pushed_velocity(vel[a, k], -j, ima_a, sep[1 + k])
                 if ima_a > 0.0:
                     kinetic += (va * va - vel[a, k] * vel[a, k]) / ima_a
                 vel[a, k] = va
             else:
                 static_impulse[-1 - a, k] += j * sep[1 + k]
         ledger[1] += 0.5 * kinetic
-        ledger[3] -= gk.collision_loss(vn, inv_sum, e)
+        ledger[3] -= cl.collision_loss(vn, inv_sum, e)
         ledger[5 if a >= 0 else 6] += 1.0
         status[1] += 1
         if record:

@@ -8,7 +8,7 @@ APGD (Mazhar et al. 2015).
 Owns ``STATUS_SIZE`` (the stepper's counters: its solvers count their iterations in the last),
 the program (:func:`_qp`), its two solvers (:func:`_mprgp`, :func:`_apgd`) and their passes over
 the rows (:func:`_gradient`, :func:`_product`, :func:`_move`, :func:`_bound`, :func:`_kick`). It
-imports only the contact law's velocity update (:mod:`.geometry_kernels`' ``pushed_velocity``)
+imports only the contact law's velocity update (:mod:`.contact_law`'s ``pushed_velocity``)
 and no other file of the engine: it must stay so (it knows rows, not pairs, shapes or bodies'
 flight).
 """
@@ -22,10 +22,10 @@ import numpy as np
 
 from ..tolerances import SOLVER_TOLERANCE
 
-if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
-    gk: Any = globals()["_GEOMETRY"]
+if "_CONTACT_LAW" in globals():  # the compiled copy: the kernels it calls are compiled too
+    cl: Any = globals()["_CONTACT_LAW"]
 else:
-    from . import geometry_kernels as gk
+    from . import contact_law as cl
 
 #: Counters returned to the world: flights that hit MAX_IMPACTS_PER_STEP, impacts, solves that
 #: hit their cap, listings, bodies asleep now, iterations of the solves.
@@ -244,6 +244,6 @@ def _mprgp(ca: Any, cb: Any, cf: Any, c: int, vel: Any, ima: Any, n: int, iterat
 def _kick(vel: Any, ima: Any, a: int, b: int, cf: Any, q: int, impulse: float) -> None:
     """:func:`.contact_solver._apply` on a dense contact row ``q`` (normal in ``cf[q, :3]``)."""
     for k in range(3):
-        vel[b, k] = gk.pushed_velocity(vel[b, k], impulse, ima[b], cf[q, k])
+        vel[b, k] = cl.pushed_velocity(vel[b, k], impulse, ima[b], cf[q, k])
         if a >= 0:
-            vel[a, k] = gk.pushed_velocity(vel[a, k], -impulse, ima[a], cf[q, k])
+            vel[a, k] = cl.pushed_velocity(vel[a, k], -impulse, ima[a], cf[q, k])

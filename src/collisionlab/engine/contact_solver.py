@@ -7,7 +7,7 @@ impulses take goes to the ledger, measured and theory's.
 Owns ``PAIR_COLUMNS`` (a pair's float row), the solve's iteration caps (``COLD_SOLVER_SWEEPS``,
 ``MPRGP_SWEEPS``, ``APGD_SWEEPS``), the solve (:func:`_solve`) and its helpers on pair rows
 (:func:`_apply`, :func:`_normal_velocity`, :func:`_contact_kinetic`). It imports
-:mod:`.non_literal`, :mod:`.geometry_kernels` (the velocity update), :mod:`.contact_time_of_impact`
+:mod:`.non_literal`, :mod:`.contact_law` (the velocity update), :mod:`.contact_time_of_impact`
 (a pair's separation), :mod:`.contact_memory` and :mod:`.contact_qp`; it must not import the
 candidates, impacts, push-apart, islands or the loop.
 """
@@ -20,15 +20,15 @@ import numpy as np
 
 if "_NON_LITERAL" in globals():  # the compiled copy: the kernels it calls are compiled too
     nl: Any = globals()["_NON_LITERAL"]
-    gk: Any = globals()["_GEOMETRY"]
+    cl: Any = globals()["_CONTACT_LAW"]
     ct: Any = globals()["_CONTACT_TIME_OF_IMPACT"]
     cm: Any = globals()["_CONTACT_MEMORY"]
     qp: Any = globals()["_CONTACT_QP"]
 else:
+    from . import contact_law as cl
     from . import contact_memory as cm
     from . import contact_qp as qp
     from . import contact_time_of_impact as ct
-    from . import geometry_kernels as gk
     from . import non_literal as nl
 
 #: The most iterations of a solve most of whose touching contacts are new (nothing to start from: a
@@ -173,9 +173,9 @@ def _apply(pairs: Any, pf: Any, p: int, vel: Any, ima: Any, impulse: float) -> N
     a = pairs[p, 0]
     b = pairs[p, 1]
     for k in range(3):
-        vel[b, k] = gk.pushed_velocity(vel[b, k], impulse, ima[b], pf[p, 1 + k])
+        vel[b, k] = cl.pushed_velocity(vel[b, k], impulse, ima[b], pf[p, 1 + k])
         if a >= 0:
-            vel[a, k] = gk.pushed_velocity(vel[a, k], -impulse, ima[a], pf[p, 1 + k])
+            vel[a, k] = cl.pushed_velocity(vel[a, k], -impulse, ima[a], pf[p, 1 + k])
 
 
 def _normal_velocity(pairs: Any, pf: Any, p: int, vel: Any) -> float:

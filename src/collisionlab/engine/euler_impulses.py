@@ -4,7 +4,7 @@ contact after contact in the order of :mod:`.contact_order`, each from the curre
 already in contact is a collision event (:mod:`.event_rows`), unless it rests on a support
 (:func:`_impulses`).
 
-It imports :mod:`.geometry_kernels`, :mod:`.non_literal`, :mod:`.pair_separation` and
+It imports :mod:`.contact_law`, :mod:`.non_literal`, :mod:`.pair_separation` and
 :mod:`.event_rows`; it must not import the loop (:mod:`.step_kernels`), which calls it.
 """
 
@@ -17,12 +17,12 @@ import numpy as np
 
 if "_EVENT_ROWS" in globals():  # the compiled copy: the kernels it calls are compiled too
     evr: Any = globals()["_EVENT_ROWS"]
-    gk: Any = globals()["_GEOMETRY"]
+    cl: Any = globals()["_CONTACT_LAW"]
     nl: Any = globals()["_NON_LITERAL"]
     ps: Any = globals()["_PAIR_SEPARATION"]
 else:
+    from . import contact_law as cl
     from . import event_rows as evr
-    from . import geometry_kernels as gk
     from . import non_literal as nl
     from . import pair_separation as ps
 
@@ -135,8 +135,8 @@ def _impulses(
             bounce_floor = rest_speed + 2.0 * g_dt / squared
         else:
             bounce_floor = math.inf
-        e = gk.applied_restitution(vn, e_pair, bounce_floor)
-        j = gk.impulse_magnitude(vn, inv_sum, e)
+        e = cl.applied_restitution(vn, e_pair, bounce_floor)
+        j = cl.impulse_magnitude(vn, inv_sum, e)
         ja = j * ima_a
         jb = j * ima[b]
         largest[0] = max(largest[0], abs(ja), abs(jb))
@@ -150,20 +150,20 @@ def _impulses(
         before[5] = vel[b, 2]
         if a >= 0 and ima_a > 0.0:
             kinetic_before += (vax * vax + vay * vay + vaz * vaz) / ima_a
-            vel[a, 0] = gk.pushed_velocity(vax, -j, ima_a, nx)
-            vel[a, 1] = gk.pushed_velocity(vay, -j, ima_a, ny)
-            vel[a, 2] = gk.pushed_velocity(vaz, -j, ima_a, nz)
+            vel[a, 0] = cl.pushed_velocity(vax, -j, ima_a, nx)
+            vel[a, 1] = cl.pushed_velocity(vay, -j, ima_a, ny)
+            vel[a, 2] = cl.pushed_velocity(vaz, -j, ima_a, nz)
             kinetic_after += (vel[a, 0] * vel[a, 0] + vel[a, 1] * vel[a, 1] + vel[a, 2] * vel[a, 2]) / ima_a
             changed[a] = tick
         if ima[b] > 0.0:
             kinetic_before += (before[3] * before[3] + before[4] * before[4] + before[5] * before[5]) / ima[b]
-            vel[b, 0] = gk.pushed_velocity(before[3], j, ima[b], nx)
-            vel[b, 1] = gk.pushed_velocity(before[4], j, ima[b], ny)
-            vel[b, 2] = gk.pushed_velocity(before[5], j, ima[b], nz)
+            vel[b, 0] = cl.pushed_velocity(before[3], j, ima[b], nx)
+            vel[b, 1] = cl.pushed_velocity(before[4], j, ima[b], ny)
+            vel[b, 2] = cl.pushed_velocity(before[5], j, ima[b], nz)
             kinetic_after += (vel[b, 0] * vel[b, 0] + vel[b, 1] * vel[b, 1] + vel[b, 2] * vel[b, 2]) / ima[b]
             changed[b] = tick
         ledger[1] += 0.5 * (kinetic_after - kinetic_before)
-        ledger[3] -= gk.collision_loss(vn, inv_sum, e)
+        ledger[3] -= cl.collision_loss(vn, inv_sum, e)
         if a >= 0:
             ledger[5] += 1.0
         else:

@@ -22,7 +22,7 @@ from typing import Any
 from ..tolerances import MAX_RUN_SPEED
 
 if "_EVENT_ROWS" in globals():  # the compiled copy: the kernels it calls are compiled too
-    gk: Any = globals()["_GEOMETRY"]
+    cl: Any = globals()["_CONTACT_LAW"]
     evr: Any = globals()["_EVENT_ROWS"]
     ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
@@ -33,6 +33,7 @@ if "_EVENT_ROWS" in globals():  # the compiled copy: the kernels it calls are co
     es: Any = globals()["_EXACT_SWEEPS"]
     st: Any = globals()["_EXACT_SETTLE"]
 else:
+    from . import contact_law as cl
     from . import event_heap as eh
     from . import event_rows as evr
     from . import exact_flight as ef
@@ -41,7 +42,6 @@ else:
     from . import exact_settle as st
     from . import exact_sweeps as es
     from . import exact_time_of_impact as et
-    from . import geometry_kernels as gk
     from . import pair_separation as ps
 
 #: The most impacts resolved within one step; past it the step ends without the rest (a guard
@@ -291,7 +291,7 @@ def _impacts(
                 pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
             threshold = rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
             below = -vn < threshold
-            e = gk.applied_restitution(vn, e_pair, threshold)
+            e = cl.applied_restitution(vn, e_pair, threshold)
             j = ej._kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
             status[1] += 1
             for k in range(3):  # (not <=: NaN too)

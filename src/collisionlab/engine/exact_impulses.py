@@ -5,18 +5,18 @@ kick through here; the kinetic energy a kick changes, and an impact's predicted 
 to the ledger.
 
 Owns how a body answers a unit impulse (:func:`_response`) and the kick (:func:`_kick`). It
-imports only the contact law (:mod:`.geometry_kernels`' ``impulse_magnitude``); it must not import
-the other exact files (it finds no contact and moves no body).
+imports only the contact law (:mod:`.contact_law`); it must not import the other exact files (it
+finds no contact and moves no body).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
-    gk: Any = globals()["_GEOMETRY"]
+if "_CONTACT_LAW" in globals():  # the compiled copy: the kernels it calls are compiled too
+    cl: Any = globals()["_CONTACT_LAW"]
 else:
-    from . import geometry_kernels as gk
+    from . import contact_law as cl
 
 #: Helpers the compiled form inlines into their callers (:mod:`.compiled`): the small ones, and
 #: those the loop calls for every pair it looks at, which take arrays (a call costs a reference
@@ -88,31 +88,31 @@ def _kick(
             if free:
                 return 0.0
             continue
-        j = gk.impulse_magnitude(vn, inv_sum, e)
+        j = cl.impulse_magnitude(vn, inv_sum, e)
         if free:
             break
         u = vel[b, 0] * bx + vel[b, 1] * by + vel[b, 2] * bz
         if a >= 0:
             u += vel[a, 0] * ax + vel[a, 1] * ay + vel[a, 2] * az
         gained = j * u + 0.5 * j * j * (energy_a + energy_b)
-        if gained <= max(0.0, -gk.collision_loss(vn, inv_sum, e)):
+        if gained <= max(0.0, -cl.collision_loss(vn, inv_sum, e)):
             break
     kinetic = 0.0
     if a >= 0 and ima[a] > 0.0:
         before = vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2
-        vel[a, 0] = gk.pushed_velocity(vel[a, 0], j, ima[a], ax)
-        vel[a, 1] = gk.pushed_velocity(vel[a, 1], j, ima[a], ay)
-        vel[a, 2] = gk.pushed_velocity(vel[a, 2], j, ima[a], az)
+        vel[a, 0] = cl.pushed_velocity(vel[a, 0], j, ima[a], ax)
+        vel[a, 1] = cl.pushed_velocity(vel[a, 1], j, ima[a], ay)
+        vel[a, 2] = cl.pushed_velocity(vel[a, 2], j, ima[a], az)
         kinetic += 0.5 * (vel[a, 0] ** 2 + vel[a, 1] ** 2 + vel[a, 2] ** 2 - before) / ima[a]
     if ima[b] > 0.0:
         before = vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2
-        vel[b, 0] = gk.pushed_velocity(vel[b, 0], j, ima[b], bx)
-        vel[b, 1] = gk.pushed_velocity(vel[b, 1], j, ima[b], by)
-        vel[b, 2] = gk.pushed_velocity(vel[b, 2], j, ima[b], bz)
+        vel[b, 0] = cl.pushed_velocity(vel[b, 0], j, ima[b], bx)
+        vel[b, 1] = cl.pushed_velocity(vel[b, 1], j, ima[b], by)
+        vel[b, 2] = cl.pushed_velocity(vel[b, 2], j, ima[b], bz)
         kinetic += 0.5 * (vel[b, 0] ** 2 + vel[b, 1] ** 2 + vel[b, 2] ** 2 - before) / ima[b]
     ledger[1] += kinetic
     if impact:
-        ledger[3] -= gk.collision_loss(vn, inv_sum, e)
+        ledger[3] -= cl.collision_loss(vn, inv_sum, e)
         if a >= 0:
             ledger[5] += 1.0
         else:

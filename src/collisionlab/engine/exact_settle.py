@@ -21,6 +21,7 @@ import math
 from typing import Any
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
+    cl: Any = globals()["_CONTACT_LAW"]
     gk: Any = globals()["_GEOMETRY"]
     evr: Any = globals()["_EVENT_ROWS"]
     ps: Any = globals()["_PAIR_SEPARATION"]
@@ -30,6 +31,7 @@ if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are comp
     ej: Any = globals()["_EXACT_IMPULSES"]
     er: Any = globals()["_EXACT_REST"]
 else:
+    from . import contact_law as cl
     from . import event_heap as eh
     from . import event_rows as evr
     from . import exact_flight as ef
@@ -176,7 +178,7 @@ def _settle(
                 if gk.first_root(sep2[0] - gap, vn2, 0.5 * an, dt - when) == math.inf:
                     continue
             e2_pair = ps._pair_e(eb[a2] if a2 >= 0 else s_e[-1 - a2], eb[b2], e_default)
-            e_2 = gk.applied_restitution(vn2, e2_pair, rest_speed)
+            e_2 = cl.applied_restitution(vn2, e2_pair, rest_speed)
             j2 = ej._kick(a2, b2, sep2[1], sep2[2], sep2[3], vn2, e_2, vel, ima, sup, nsup, ledger, True)
             if j2 == 0.0:
                 continue
