@@ -110,7 +110,7 @@ def _flight(
         for k in range(3):
             vn += (vel[b, k] - (vel[a, k] if a >= 0 else 0.0)) * sep[1 + k]
         most = max(hits[b], hits[a] if a >= 0 else 0)
-        if -vn <= rest_speed or most >= 4 * MAX_BODY_IMPACTS:
+        if not cl.is_impact(vn, rest_speed) or most >= 4 * MAX_BODY_IMPACTS:
             continue  # a slow approach, or a body in a cluster that will not stop: the solve's
         sleeper = b if asleep[b] != 0 else (a if a >= 0 and asleep[a] != 0 else -1)
         if sleeper >= 0:

@@ -8,13 +8,52 @@ runs as Python (the scalar API, :mod:`collisionlab.resolution`; small worlds) an
 numba inside every stepper (Forward Euler, exact, contact, and the event loop,
 :mod:`collisionlab.edmd.predict`). Nothing here allocates or raises; it imports nothing.
 
+The restitution rule: ``e`` applies to an approach at least a threshold speed ``v_rest`` fast
+(:func:`is_impact`); a slower one is a resting contact, ``e = 0``. The test is this file's; the
+threshold is each stepper's, because each comes to rest its own way:
+
+=====================  ======================================================================
+stepper                ``v_rest``
+=====================  ======================================================================
+Forward Euler          on a support, ``rest_speed + 2 |g.n| dt / e^2`` (a bounce that would not
+                       rise above one step's approach is the integrator's, not physics); between
+                       two free bodies ``rest_speed``; without gravity 0 (every touch bounces)
+exact, every touch an  ``rest_speed + sqrt(4 |a.n| contact_margin)`` (a hop lower than the contact
+event                  margin), ``a`` the pair's relative acceleration
+exact, contacts        ``max(REST_SPEED, |g| dt)`` (:func:`~collisionlab.engine.contact_stepper.rest_speed`:
+solved                 a body resting on a support closes at up to ``|g| dt / 2`` within a step)
+event-driven           no threshold: the TC model (``e = 1`` within ``t_c`` of a ball's last
+                       collision; Luding and McNamara 1998), the floor's bounce at least ``g t_c / 2``
+=====================  ======================================================================
+
+One threshold for every stepper was tried (bench/LOG.md, 2026-12-06): the contact stepper's in the
+exact stepper moved the golden outputs, and in Forward Euler a ball dropped on an incline bounced
+322 times instead of a few.
+
 >>> impulse_magnitude(-2.0, 2.0, 1.0)    # j = -(1 + 1)(-2) / (1/1 + 1/1)
 2.0
 """
 
 from __future__ import annotations
 
-__all__ = ["applied_restitution", "collision_loss", "impulse_magnitude", "pushed_velocity"]
+__all__ = ["applied_restitution", "collision_loss", "impulse_magnitude", "is_impact", "pushed_velocity"]
+
+#: Helpers the compiled form inlines into their callers (:mod:`.compiled`): the two the steppers'
+#: innermost loops call (every prediction asks :func:`is_impact`; every solver iteration moves
+#: velocities by :func:`pushed_velocity`).
+INLINE = ("is_impact", "pushed_velocity")
+
+
+def is_impact(normal_speed: float, rest_speed: float) -> bool:
+    """The restitution rule's test: whether a contact closing at ``normal_speed`` (``v_n < 0``) is
+    an impact, which ``e`` applies to, rather than a resting contact (``e = 0``, no bounce): its
+    approach ``-v_n`` is at least ``rest_speed``. Every stepper decides with this; each gives its
+    own threshold (module docstring), as each comes to rest its own way.
+
+    >>> is_impact(-2.0, 0.1), is_impact(-0.05, 0.1), is_impact(-0.1, 0.1)
+    (True, False, True)
+    """
+    return -normal_speed >= rest_speed
 
 
 def applied_restitution(normal_speed: float, restitution: float, rest_speed: float) -> float:
@@ -24,7 +63,7 @@ def applied_restitution(normal_speed: float, restitution: float, rest_speed: flo
     >>> applied_restitution(-2.0, 0.5, 1e-3), applied_restitution(-1e-4, 0.5, 1e-3)
     (0.5, 0.0)
     """
-    return 0.0 if -normal_speed < rest_speed else restitution
+    return restitution if is_impact(normal_speed, rest_speed) else 0.0
 
 
 def collision_loss(normal_speed: float, inverse_mass_sum: float, restitution: float) -> float:

@@ -69,7 +69,7 @@ def _solve(
         for k in range(3):
             vn += (vel[b, k] - (vel[a, k] if a >= 0 else 0.0)) * sep[1 + k]
             gn += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
-        if -vn > rest_speed and sep[0] > contact_margin:
+        if cl.is_impact(vn, rest_speed) and sep[0] > contact_margin:
             continue  # an impact to come: the flights' (one passed over in a collapsing cluster is solved)
         if sep[0] > contact_margin and asleep[b] + (asleep[a] if a >= 0 else 0) != 0:
             continue  # not touching a sleeper yet: it wakes when it is touched

@@ -5,9 +5,9 @@ than the rest speed has no impact (it is the solve's).
 
 Owns ``TOI_ITERATIONS``, a pair's separation at given positions or where the bodies are
 (:func:`_sep_of`, :func:`_sep_now`: every other contact file asks it) and the time of impact
-(:func:`_pair_toi`). It imports :mod:`.geometry_kernels`, :mod:`.pair_separation` and
-:mod:`.contact_flight`; it must not import the candidates, impacts, solve, push-apart, islands or
-the loop (which ask it, not the other way round).
+(:func:`_pair_toi`). It imports :mod:`.contact_law` (an impact or not), :mod:`.geometry_kernels`,
+:mod:`.pair_separation` and :mod:`.contact_flight`; it must not import the candidates, impacts,
+solve, push-apart, islands or the loop (which ask it, not the other way round).
 """
 
 from __future__ import annotations
@@ -18,11 +18,13 @@ from typing import Any
 from ..tolerances import APPROACH_ROUNDING, TOI_GAP
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
+    cl: Any = globals()["_CONTACT_LAW"]
     gk: Any = globals()["_GEOMETRY"]
     ps: Any = globals()["_PAIR_SEPARATION"]
     fl: Any = globals()["_CONTACT_FLIGHT"]
 else:
     from . import contact_flight as fl
+    from . import contact_law as cl
     from . import geometry_kernels as gk
     from . import pair_separation as ps
 
@@ -91,7 +93,7 @@ def _pair_toi(
         s2 = 0.5 * (alx * sep[1] + aly * sep[2] + alz * sep[3])
         if sep[0] <= TOI_GAP:
             still = APPROACH_ROUNDING * (abs(vax) + abs(vay) + abs(vaz) + abs(vbx) + abs(vby) + abs(vbz))
-            if -s1 > rest_speed:
+            if cl.is_impact(s1, rest_speed):
                 return t  # an impact
             if s1 < -still or (s1 <= still and s2 < 0.0):
                 return math.inf  # pressed together slowly: the solve's, until a kick predicts it again

@@ -171,12 +171,12 @@ def _impulses(
         event_count[1] += 1
         if touching[c] == 0:
             touching[c] = 1
-            if record and -vn >= resting:
+            if record and cl.is_impact(vn, resting):
                 sep = ps._contact_separation(kind, pos, ext, s_kind, s_a, s_b, a, b)
                 events = evr._write_event(
                     events,
                     event_count[0],
-                    evr.EVENT_BELOW_REST if -vn < bounce_floor else evr.EVENT_IMPACT,
+                    evr.EVENT_IMPACT if cl.is_impact(vn, bounce_floor) else evr.EVENT_BELOW_REST,
                     step,
                     time,
                     id_a,

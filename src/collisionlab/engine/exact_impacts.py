@@ -290,7 +290,7 @@ def _impacts(
             for k in range(3):
                 pressing += (acc[b, k] - (acc[a, k] if a >= 0 else 0.0)) * sep[1 + k]
             threshold = rest_speed + math.sqrt(4.0 * max(0.0, -pressing) * contact_margin)
-            below = -vn < threshold
+            below = not cl.is_impact(vn, threshold)
             e = cl.applied_restitution(vn, e_pair, threshold)
             j = ej._kick(a, b, nx, ny, nz, vn, e, vel, ima, sup, nsup, ledger, True)
             status[1] += 1
@@ -317,7 +317,7 @@ def _impacts(
                 )
                 event_count[0] += 1
             touching[c] = 1
-            if -vn < rest_speed:
+            if not cl.is_impact(vn, rest_speed):
                 ignored[c] = 1  # a touch too slow to bounce: in contact until the step ends
             # Settle the contacts this impact touches (sequential impulses, breadth first).
             n_kicked = st._settle(

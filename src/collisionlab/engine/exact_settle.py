@@ -188,7 +188,7 @@ def _settle(
                 evr._put_event(
                     events,
                     event_count[0],
-                    evr.EVENT_BELOW_REST if -vn2 < rest_speed else evr.EVENT_IMPACT,
+                    evr.EVENT_IMPACT if cl.is_impact(vn2, rest_speed) else evr.EVENT_BELOW_REST,
                     step + 1,
                     start + when,
                     ids[a2] if a2 >= 0 else a2,
