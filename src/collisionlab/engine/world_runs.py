@@ -20,7 +20,6 @@ from ..run_guard import RangeGuard, is_overflow
 from .chunks import next_chunk
 from .contact_stepper import ContactStepper
 from .event_stepper import EventDrivenStepper
-from .state import BodyArrays
 from .stepper import EulerStepper
 from .world_readings import WorldReadings
 
@@ -33,7 +32,6 @@ class WorldRuns(WorldReadings):
 
     scenario: Scenario
     record: RunRecord
-    _bodies: BodyArrays
     _stepper: EulerStepper | EventDrivenStepper | ContactStepper
     _compiled: bool
     #: Whether chunks are sized as an exact stepper's among obstacles (chunks.next_chunk).
