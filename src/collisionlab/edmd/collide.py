@@ -180,14 +180,16 @@ def collide(
     kinetic_i = F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2
     kinetic_j = F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
     kinetic = kinetic_i + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2
-    # (Not through pushed_velocity, as the wall's bounce is: impulse / (m r) times the unnormalised
-    # dx saves a division, and through it the gas-mixture example's output moved: bench/LOG.md.)
-    F[i, V] += fi * dx
-    F[i, V + 1] += fi * dy
-    F[i, V + 2] += fi * dz
-    F[j, V] -= fj * dx
-    F[j, V + 1] -= fj * dy
-    F[j, V + 2] -= fj * dz
+    # The contact law's velocity update, v + (j / m) n, pushed along the unnormalised dx (|dx| = r)
+    # by j / (m r) with the mass already in it (inverse mass 1): one division fewer than n's, and
+    # the same bits as before the update had one home (a form that divided dx by r moved the
+    # gas-mixture example's output: bench/LOG.md).
+    F[i, V] = pushed_velocity(F[i, V], fi, 1.0, dx)
+    F[i, V + 1] = pushed_velocity(F[i, V + 1], fi, 1.0, dy)
+    F[i, V + 2] = pushed_velocity(F[i, V + 2], fi, 1.0, dz)
+    F[j, V] = pushed_velocity(F[j, V], -fj, 1.0, dx)
+    F[j, V + 1] = pushed_velocity(F[j, V + 1], -fj, 1.0, dy)
+    F[j, V + 2] = pushed_velocity(F[j, V + 2], -fj, 1.0, dz)
     after_i = F[i, V] ** 2 + F[i, V + 1] ** 2 + F[i, V + 2] ** 2
     if mi == mj:
         kinetic_after = after_i + F[j, V] ** 2 + F[j, V + 1] ** 2 + F[j, V + 2] ** 2

@@ -40,12 +40,14 @@ __all__ = [
 
 #: Two balls' time of impact, tested against every neighbour (no ``tmin``: see
 #: :func:`~collisionlab.engine.geometry_kernels.time_of_impact_ball_ball`, why without branches),
-#: and the contact law with its ledger term (what theory says a collision takes): the engine's
-#: kernels, written once there, compiled into the loop here.
+#: the first root of a gap along a normal (a wall's, in flight or under gravity), and the contact
+#: law with its ledger term (what theory says a collision takes): the engine's kernels, written
+#: once there, compiled into the loop here.
 #: Inlined by numba (never compiled on their own here): the engine's compiled copy of the same
 #: source shares numba's cache entry for a function compiled on its own, and a process that
 #: loaded this one from it would look for that copy's module.
 contact_time = jit_inline(gk.time_of_impact_ball_ball)
+first_root = jit_inline(gk.first_root)
 impulse_magnitude = jit_inline(cl.impulse_magnitude)
 collision_loss = jit_inline(cl.collision_loss)
 pushed_velocity = jit_inline(cl.pushed_velocity)
@@ -54,49 +56,63 @@ pushed_velocity = jit_inline(cl.pushed_velocity)
 @jit_call
 def wall_time(x: float, v: float, lo: float, hi: float) -> float:
     """Time until a centre at ``x`` moving at ``v`` reaches ``lo`` (moving down) or ``hi``
-    (moving up): straight flight. 0 if it is already past the wall and still moving out."""
+    (moving up): straight flight, the gap to the wall closing at ``|v|`` (the engine's root of a
+    gap along a normal, :func:`~collisionlab.engine.geometry_kernels.first_root`). 0 if it is
+    already past the wall and still moving out.
+
+    >>> wall_time(1.0, 2.0, 0.5, 4.0), wall_time(1.0, -2.0, 0.5, 4.0), wall_time(5.0, 1.0, 0.5, 4.0)
+    (1.5, 0.25, 0.0)
+    """
     if v > 0.0:
-        t = (hi - x) / v
+        gap = hi - x
+        closing = -v
     elif v < 0.0:
-        t = (lo - x) / v
+        gap = x - lo
+        closing = v
     else:
         return math.inf
-    return t if t > 0.0 else 0.0
+    return first_root(gap, closing, 0.0, math.inf) if gap > 0.0 else 0.0
 
 
 @jit_call
 def floor_time(y: float, vy: float, g: float, lo: float) -> float:
     """Time until a centre at height ``y`` with upward speed ``vy`` under gravity ``g > 0``
-    comes down to ``lo``: the root of ``y + vy t - g t^2 / 2 = lo`` at which it moves down.
+    comes down to ``lo``: the root of ``y + vy t - g t^2 / 2 = lo`` at which it moves down (from
+    above, the gap's first root: :func:`~collisionlab.engine.geometry_kernels.first_root`).
 
     A centre below ``lo`` by rounding that still moves up turns at its apex, ``t = vy / g``,
     and is met there (where it starts to move into the floor).
+
+    >>> floor_time(1.0, 0.0, 2.0, 0.0), floor_time(0.0, 2.0, 2.0, 0.0), floor_time(-1.0, -1.0, 2.0, 0.0)
+    (1.0, 2.0, 0.0)
     """
     h = y - lo
-    if h <= 0.0 and vy <= 0.0:
+    if h > 0.0:
+        return first_root(h, vy, -0.5 * g, math.inf)
+    if vy <= 0.0:
         return 0.0
     disc = vy * vy + 2.0 * g * h
     if disc < 0.0:
         return vy / g
-    root = math.sqrt(disc)
-    if vy > 0.0:
-        return (vy + root) / g
-    return 2.0 * h / (root - vy)
+    return (vy + math.sqrt(disc)) / g
 
 
 @jit_call
 def ceiling_time(y: float, vy: float, g: float, hi: float) -> float:
     """Time until a centre at ``y`` rising at ``vy`` under gravity ``g > 0`` reaches ``hi``
-    (the first root of ``y + vy t - g t^2 / 2 = hi``); ``inf`` if it turns back below it."""
+    (the first root of ``y + vy t - g t^2 / 2 = hi``:
+    :func:`~collisionlab.engine.geometry_kernels.first_root` of the gap ``hi - y``); ``inf`` if
+    it turns back below it.
+
+    >>> ceiling_time(0.0, 3.0, 2.0, 2.0), ceiling_time(0.0, 1.0, 2.0, 2.0)   # 3t - t^2 = 2 first at t = 1
+    (1.0, inf)
+    """
     h = hi - y
     if vy <= 0.0:
         return math.inf
     if h <= 0.0:
         return 0.0
-    disc = vy * vy - 2.0 * g * h
-    if disc < 0.0:
-        return math.inf
-    return 2.0 * h / (vy + math.sqrt(disc))
+    return first_root(h, -vy, 0.5 * g, math.inf)
 
 
 @jit_call
