@@ -81,6 +81,7 @@ COLLISION_LAYER = (
     "collisionlab.engine.euler_impulses",
     "collisionlab.engine.euler_push_apart",
     "collisionlab.engine.euler_clamps",
+    "collisionlab.engine.euler_integrate",
     "collisionlab.engine.event_heap",
 )
 

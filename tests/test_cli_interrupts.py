@@ -57,10 +57,10 @@ def test_ctrl_c_stops_a_python_form_gas_inside_its_step(monkeypatch: pytest.Monk
     # takes seconds: Ctrl-C must not wait for the step to end (it did: up to 5 s), as it must
     # for a compiled call. The signal arrives after the step's first phase (integrate); the
     # step's next phase (the grid) must not run.
-    from collisionlab.engine import broad_phase_grid, step_kernels
+    from collisionlab.engine import broad_phase_grid, euler_integrate
     from tests.cli_helpers import run_cli
 
-    integrate, grid_plan = step_kernels._integrate, broad_phase_grid._grid_plan
+    integrate, grid_plan = euler_integrate._integrate, broad_phase_grid._grid_plan
     later: list[int] = []
 
     def integrate_then_ctrl_c(*args: Any) -> None:
@@ -73,7 +73,7 @@ def test_ctrl_c_stops_a_python_form_gas_inside_its_step(monkeypatch: pytest.Monk
         later.append(1)
         return grid_plan(*args)
 
-    monkeypatch.setattr(step_kernels, "_integrate", integrate_then_ctrl_c)
+    monkeypatch.setattr(euler_integrate, "_integrate", integrate_then_ctrl_c)
     monkeypatch.setattr(broad_phase_grid, "_grid_plan", grid_plan_seen)
     result = run_cli(["gas", "--n", "50", "--steps", "5", "--backend", "python"])
     assert result.status == 130 and result.err.strip().splitlines()[-1] == "collisionlab: interrupted"

@@ -33,6 +33,7 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
         "euler_impulses",
         "euler_push_apart",
         "euler_clamps",
+        "euler_integrate",
     ]
     exact = [
         "exact_flight",

@@ -20,14 +20,14 @@ of ``.npy`` arrays, no pickle) holding:
   ``observer_start``, ``observer_ref``, ``(n, dim)``) and each ball's species
   (``observer_kinds``).
 
-``observer`` is ``null`` for a run not observed, else (:meth:`.structure.Observer.saved`) the
+``observer`` is ``null`` for a run not observed, else (:meth:`.observer.Observer.saved`) the
 observation's settings, ``observe`` (names, in :data:`~.structure.OBSERVABLES`' order),
 ``samples``, ``end`` (the run's end its sample times were laid out for) and the species'
 ``names``, and its scalars: ``k`` (samples taken), ``rdf_samples``, ``last`` (the time of the
 last stop), ``speed`` (the fastest ball's then: the next unwrapping stop), ``origin_taken`` and
 ``virial`` (the collision virial at the origin). Read back, the observer is made again for the
 run as it was at the start (:func:`~.observables.observer_for`) and given this state
-(:meth:`.structure.Observer.restore`, which checks it against the run): the continued run
+(:meth:`.observer.Observer.restore`, which checks it against the run): the continued run
 stops, samples and reports as the observed run done in one go, to the last bit. Its sample
 times are laid out over the run's ``time`` as it was started, so an observed run cannot be
 continued to another total time (``collisionlab gas --resume`` refuses ``--time`` then).
@@ -41,9 +41,10 @@ state to keep.
 
 ``sha256`` is the SHA-256 of the header without it (JSON, sorted keys) followed by, for each
 array in name order, its name, dtype, shape and bytes. A file is read whole and checked (format,
-version, checksum, the arrays' names, dtypes and shapes, agreement with the header) before any
-world is made from it: a truncated, corrupt or foreign file, or another version, raises
-:class:`CheckpointError` with one line, never a half-read world.
+version, checksum, the arrays' names, dtypes and shapes, agreement with the header, the
+last ones in :mod:`.checkpoint_arrays`) before any world is made from it: a truncated, corrupt
+or foreign file, or another version, raises :class:`CheckpointError` with one line, never a
+half-read world.
 
 Written atomically: into a temporary file in the target's folder (``.NAME.XXXXXXXX.tmp``),
 flushed and ``fsync``-ed, then renamed over the target (``os.replace``) and the folder synced,
@@ -68,11 +69,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import CollisionLabError, escape_controls
-from . import layout as L
 from .arrays import STATE_ARRAYS
+from .checkpoint_arrays import check_arrays
 from .exact_gas import ExactGas, Species
 from .observables import observer_for
-from .structure import OBSERVABLES, OBSERVER_ARRAYS, Observer
+from .observer import Observer
+from .structure import OBSERVABLES, OBSERVER_ARRAYS
 from .world import EventDrivenWorld
 
 __all__ = ["FORMAT", "VERSION", "Checkpoint", "CheckpointError", "read_checkpoint", "write_checkpoint"]
@@ -86,24 +88,6 @@ VERSION = 2
 _ZIP_MAGIC = b"PK\x03\x04"
 #: The ``.npz`` member holding the header.
 _HEADER = "header"
-#: Each state array's dtype and the shape it must have, ``n`` the balls, ``s`` the species
-#: counted (0 for one kind), ``None`` any length.
-_DTYPES = {
-    "F": np.float64,
-    "IX": np.int32,
-    "NB": np.int32,
-    "CI": np.int32,
-    "heap": np.int32,
-    "lists": np.int32,
-    "P": np.float64,
-    "Q": np.int64,
-    "G": np.float64,
-    "K": np.int64,
-    "S": np.int32,
-    "KS": np.int64,
-    "SE": np.float64,
-    "order": np.int64,
-}
 #: The fields of :class:`~.observables.ExactGas` a checkpoint keeps (all of them).
 _GAS_FIELDS = tuple(f.name for f in fields(ExactGas))
 
@@ -158,7 +142,7 @@ def write_checkpoint(
     """Write ``world`` (as it is stored: call between runs, never after anything that brings
     the bodies to one time) and the run's ``gas`` (as given, unchecked: it is checked again when
     read), ``energy_start`` and ``seconds`` to ``path``, with an observed run's ``observer``
-    (its whole state: :meth:`.structure.Observer.saved`), atomically (see the module's
+    (its whole state: :meth:`.observer.Observer.saved`), atomically (see the module's
     docstring). An :class:`OSError` names ``path``."""
     arrays = world.state_arrays()
     observed: dict[str, Any] | None = None
@@ -235,7 +219,7 @@ def read_checkpoint(path: str | Path) -> Checkpoint:
     world_info = header.get("world")
     if not isinstance(run, dict) or not isinstance(world_info, dict):
         raise refuse("header lacks 'run' or 'world'")
-    _check_arrays(arrays, gas, world_info, refuse)
+    check_arrays(arrays, gas, world_info, refuse)
     world = EventDrivenWorld.from_state_arrays(arrays, _number(world_info.get("shell"), "world.shell", refuse))
     every = run.get("checkpoint_every")
     return Checkpoint(
@@ -253,7 +237,7 @@ def _observer(
     raw: dict[str, Any] | None, arrays: dict[str, NDArray[Any]], gas: ExactGas, world: EventDrivenWorld, refuse: Any
 ) -> Observer | None:
     """An observed run's observer, made for ``gas`` on ``world`` as the run made it, its state
-    taken back (:meth:`.structure.Observer.restore`); ``None`` when the run was not observed."""
+    taken back (:meth:`.observer.Observer.restore`); ``None`` when the run was not observed."""
     if raw is None:
         return None
     observe, samples = raw.get("observe"), raw.get("samples")
@@ -343,74 +327,3 @@ def _gas(raw: object, refuse: Any) -> ExactGas:
     except (TypeError, ValueError) as error:  # (InvalidInputError is a ValueError)
         raise refuse(f"header field 'gas' is not a valid run: {escape_controls(str(error))}") from None
     return gas
-
-
-def _check_arrays(arrays: dict[str, NDArray[Any]], gas: ExactGas, info: dict[str, Any], refuse: Any) -> None:
-    """Dtypes and shapes of the state arrays, and their agreement with the header, so that the
-    compiled loop never reads past an array."""
-    for name, dtype in _DTYPES.items():
-        if arrays[name].dtype != np.dtype(dtype):
-            raise refuse(f"array {name} is {arrays[name].dtype}, expected {np.dtype(dtype)}")
-    checked = gas.checked()
-    n, dim = checked.n, checked.dim
-    if info.get("n") != n or info.get("dim") != dim:
-        raise refuse("header's world and gas disagree on the number of balls or the dimension")
-    # A mixture's P goes on with each body's radius (layout.P_RADII), which the loop reads when
-    # P_MIXED says the radii differ: the flag, the length and the radii must agree with F.
-    p, f = arrays["P"], arrays["F"]
-    mixed = p.ndim == 1 and p.shape[0] > L.P_MIXED and p[L.P_MIXED] != 0.0
-    shapes = {
-        "F": (n, L.NF),
-        "IX": (n, L.NI),
-        "heap": (n,),
-        "order": (n,),
-        "P": (L.NP + (n if mixed else 0),),
-        "Q": (L.NQ,),
-        "G": (L.NG,),
-        "K": (L.NK,),
-    }
-    for name, shape in shapes.items():
-        if arrays[name].shape != shape:
-            raise refuse(f"array {name} has shape {arrays[name].shape}, expected {shape}")
-    radii = f[:, L.RADIUS]
-    if mixed != bool(radii.min() != radii.max()) or (mixed and not np.array_equal(p[L.P_RADII :], radii)):
-        raise refuse("array P's mixture flag or radii disagree with the balls' radii in F")
-    nb, ci, ks, se, s = arrays["NB"], arrays["CI"], arrays["KS"], arrays["SE"], arrays["S"]
-    counted = ks.shape[0]
-    Q = arrays["Q"]
-    if (
-        nb.ndim != 2
-        or nb.shape[0] != n
-        or ci.ndim != 3
-        or ci.shape[2] != 4
-        or ci.shape[0] != int(np.prod(Q[L.Q_NC : L.Q_NC + 3]))
-        or arrays["lists"].shape != (int(Q[L.Q_NB]) + 1,)
-        or ks.shape != (counted, counted)
-        or se.shape != (counted, 3)
-        or s.shape != ((n,) if counted else (0,))
-    ):
-        raise refuse("the arrays' shapes disagree with each other")
-    if int(Q[L.Q_DIM]) != dim or bool(Q[L.Q_PERIODIC]) != (checked.boundary == "periodic"):
-        raise refuse("the arrays disagree with the header's dimension or boundary")
-    if not np.array_equal(np.sort(arrays["order"]), np.arange(n)):
-        raise refuse("array order is not a permutation of the balls")
-    nnb = arrays["IX"][:, L.NNB]
-    if np.any(nnb < 0) or np.any(nnb > nb.shape[1]):
-        raise refuse("the neighbour counts exceed the lists")
-    used = np.arange(nb.shape[1])[None, :] < nnb[:, None]
-    if np.any(used & ((nb < 0) | (nb >= n))) or (counted and (np.any(s < 0) or np.any(s >= counted))):
-        raise refuse("the neighbour lists or species name balls that do not exist")
-    ix, queued = arrays["IX"], int(arrays["K"][L.K_HEAP])
-    links = ix[:, [L.QNEXT, L.QPREV]]
-    if (
-        not 0 <= queued <= n
-        or np.any(arrays["heap"][:queued] < 0)
-        or np.any(arrays["heap"][:queued] >= n)
-        or np.any(arrays["lists"] < -1)
-        or np.any(arrays["lists"] >= n)
-        or np.any(links < -1)
-        or np.any(links >= n)
-        or np.any(ix[:, L.CELL] < 0)
-        or np.any(ix[:, L.CELL] >= ci.shape[0])
-    ):
-        raise refuse("the event calendar or cells name balls or cells that do not exist")

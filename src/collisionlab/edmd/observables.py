@@ -40,13 +40,14 @@ from .exact_gas import (  # also importable from here, as before
     parse_species,
     species_counts,
 )
-from .theory import enskog_collision_rate, enskog_pair_rates, ideal_compressibility, mixture_compressibility
+from .species_report import species_report
+from .theory import enskog_collision_rate, ideal_compressibility
 from .world import EventDrivenWorld, EventSink
 
 if TYPE_CHECKING:
     from ..engine.world import World
     from ..trajectory import FrameWriter, Types
-    from .structure import Observer
+    from .observer import Observer
 
 __all__ = [
     "BOUNDARIES",
@@ -230,7 +231,7 @@ def run_on_world(
     the loop end does not change the run (:meth:`EventDrivenWorld.run`), so a run checkpointed
     or not, or continued from any of its checkpoints, ends the same to the last bit.
 
-    ``observer`` (:class:`.structure.Observer`, made for this world and run) is stopped at as
+    ``observer`` (:class:`.observer.Observer`, made for this world and run) is stopped at as
     it asks (its samples, and the stops that unwrap positions between them), which does not
     change the run either; its fields (``rdf``, ``msd``, ...) join the report.
 
@@ -322,10 +323,10 @@ def run_on_world(
 
 
 def observer_for(gas: ExactGas, balls: EventDrivenWorld, observe: tuple[str, ...], samples: int) -> Observer:
-    """An :class:`.structure.Observer` of ``observe`` (names of
+    """An :class:`.observer.Observer` of ``observe`` (names of
     :data:`.structure.OBSERVABLES`) for a checked ``gas`` run on its fresh world ``balls``:
     ``samples`` equal times to the run's end, the species named as given (one kind: ``A``)."""
-    from .structure import Observer
+    from .observer import Observer
 
     if gas.species:
         kinds = gas.mixture()[0]
@@ -333,64 +334,6 @@ def observer_for(gas: ExactGas, balls: EventDrivenWorld, observe: tuple[str, ...
     else:
         kinds, names = np.zeros(gas.n, dtype=np.int64), ["A"]
     return Observer(balls, run_end(gas.time), samples, "rdf" in observe, "msd" in observe, kinds, names)
-
-
-def species_report(gas: ExactGas, world: EventDrivenWorld, kt: float) -> dict[str, Any]:
-    """A mixture's own fields of the report: ``compressibility_theory`` and
-    ``collision_rate_enskog`` for the mixture (elastic, no gravity; else ``None``), ``species``
-    (each one's name, count, radius, mass and kT) and ``pair_collision_rates`` (per ordered pair
-    ``(a, b)``: the collisions between the two species, ``rate`` = how often one ball of ``a``
-    hits a ball of ``b`` per unit time, and Enskog's ``rate_enskog``). A species' ``kT`` is
-    ``2 <E_a> / (d N_a)``, ``<E_a>`` its kinetic energy averaged over the run (exact: it changes
-    only at collisions), or under gravity the end's."""
-    kinds, _, _, counts = gas.mixture()
-    if gas.gravity == 0.0:  # averaged over the run (a snapshot of N_a balls scatters by sqrt(2 / (d N_a)))
-        energies = world.species_mean_energy().tolist()
-    else:  # the energy changes between collisions too: the end's
-        velocities = world.velocities
-        energy = 0.5 * world.masses * np.einsum("ij,ij->i", velocities, velocities)
-        energies = [float(energy[kinds == k].sum()) for k in range(len(counts))]
-    t = world.time
-    tally = world.tally()
-    dim = gas.dim
-    fractions = [count / gas.n for count in counts]
-    diameters = [2.0 * sp.radius for sp in gas.species]
-    species_masses = [sp.mass_in(dim) for sp in gas.species]
-    elastic_gas = gas.restitution == 1.0 and gas.gravity == 0.0
-    rates = enskog_pair_rates(fractions, diameters, species_masses, gas.fraction, dim, kt) if elastic_gas else None
-    pairs = []
-    for a, first in enumerate(gas.species):
-        for b, second in enumerate(gas.species):
-            # a ball of a in a collision with a ball of b (counted for each of a's: twice if a = b)
-            hits = tally.species_collisions[a][b]
-            pairs.append(
-                {
-                    "species": [first.name, second.name],
-                    "collisions": hits // 2 if a == b else hits,
-                    "rate": hits / (counts[a] * t) if t > 0 else 0.0,
-                    "rate_enskog": rates[a][b] if rates is not None else None,
-                }
-            )
-    return {
-        "compressibility_theory": mixture_compressibility(fractions, diameters, gas.fraction, dim)
-        if elastic_gas
-        else None,
-        "collision_rate_enskog": sum(x * sum(row) for x, row in zip(fractions, rates, strict=True))
-        if rates is not None
-        else None,
-        "bytes_per_body": world.nbytes / gas.n,
-        "species": [
-            {
-                "name": sp.name,
-                "count": count,
-                "radius": sp.radius,
-                "mass": sp.mass_in(dim),
-                "kT": 2.0 * energies[k] / (dim * count),
-            }
-            for k, (sp, count) in enumerate(zip(gas.species, counts, strict=True))
-        ],
-        "pair_collision_rates": pairs,
-    }
 
 
 def _settings_report(gas: ExactGas) -> dict[str, Any]:

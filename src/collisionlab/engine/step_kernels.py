@@ -62,6 +62,7 @@ The phases live in files of their own, each owning one concept (this file is the
   order;
 * :mod:`.broad_phase_pairs` - phases 2 and 3: the candidate pairs met, their separations;
 * :mod:`.contact_order` - phase 4, the contacts' order;
+* :mod:`.euler_integrate` - phase 1, the integration;
 * :mod:`.touching_memory` - the pairs in contact at the end of the step before;
 * :mod:`.euler_impulses` - phase 5, the impulses;
 * :mod:`.euler_push_apart` - phase 6's push-apart;
@@ -69,7 +70,7 @@ The phases live in files of their own, each owning one concept (this file is the
   from corrections;
 * below them, and called by the other steppers too: :mod:`.pair_separation` (the body and static
   kinds, a pair's separation), :mod:`.event_rows` (the events) and :mod:`.non_literal`;
-* this file - the loop (:func:`run_steps`), phase 1's integration, and :func:`find_near`.
+* this file - the loop (:func:`run_steps`) and :func:`find_near`.
 
 This file imports those; none of them imports it.
 """
@@ -89,12 +90,14 @@ if "_BROAD_PHASE_GRID" in globals():  # the compiled copy: the kernels it calls 
     pu: Any = globals()["_EULER_PUSH_APART"]
     nl: Any = globals()["_NON_LITERAL"]
     tm: Any = globals()["_TOUCHING_MEMORY"]
+    ig: Any = globals()["_EULER_INTEGRATE"]
 else:
     from . import broad_phase_grid as bg
     from . import broad_phase_pairs as bp
     from . import contact_order as co
     from . import euler_clamps as cl
     from . import euler_impulses as eu
+    from . import euler_integrate as ig
     from . import euler_push_apart as pu
     from . import non_literal as nl
     from . import touching_memory as tm
@@ -107,35 +110,6 @@ __all__ = ["LEDGER_SIZE", "find_near", "run_steps"]
 LEDGER_SIZE = 7
 #: The tick of a contact never looked at (later than any).
 _NEVER = 2**62
-
-
-# --- phase 1: integrate -------------------------------------------------------------------------
-def _integrate(pos: Any, vel: Any, ima: Any, gravity: Any, dt: float, ledger: Any) -> None:
-    """Forward Euler, position first: ``x += v dt`` then ``v += g dt`` (static bodies keep v).
-    The energy this changes (kinetic plus ``-m g.x``) goes to ``ledger[0]``."""
-    n = pos.shape[0]
-    gx = gravity[0]
-    gy = gravity[1]
-    gz = gravity[2]
-    change = 0.0
-    for i in range(n):
-        vx = vel[i, 0]
-        vy = vel[i, 1]
-        vz = vel[i, 2]
-        pos[i, 0] = pos[i, 0] + vx * dt
-        pos[i, 1] = pos[i, 1] + vy * dt
-        pos[i, 2] = pos[i, 2] + vz * dt
-        if ima[i] > 0.0:
-            wx = vx + gx * dt
-            wy = vy + gy * dt
-            wz = vz + gz * dt
-            vel[i, 0] = wx
-            vel[i, 1] = wy
-            vel[i, 2] = wz
-            kinetic = 0.5 * ((wx * wx + wy * wy + wz * wz) - (vx * vx + vy * vy + vz * vz))
-            potential = -(gx * vx + gy * vy + gz * vz) * dt
-            change += (kinetic + potential) / ima[i]
-    ledger[0] += change
 
 
 # --- the loop -----------------------------------------------------------------------------------
@@ -219,7 +193,7 @@ def run_steps(
             for i in range(n):
                 for k in range(3):
                     start[i, k] = pos[i, k]
-        _integrate(pos, vel, ima, gravity, dt, ledger)
+        ig._integrate(pos, vel, ima, gravity, dt, ledger)
         if lines:
             cl._uncross(kind, pos, ext, ima, s_kind, s_a, s_b, side, gravity, slop, ledger)
         # Sort the state by cell (Ericson 7.1.3): the pair search then reads memory in sequence.
