@@ -53,7 +53,7 @@ COLLISION_LAYER = (
     "collisionlab.engine.shape_rows",  # a shape as a row of the kernels' arrays
     "collisionlab.engine.exact_kernels",  # the exact stepper's loop, and the files of its phases:
     "collisionlab.engine.exact_flight",
-    "collisionlab.engine.exact_time_of_impact",
+    "collisionlab.engine.pair_time_of_impact",
     "collisionlab.engine.exact_impulses",
     "collisionlab.engine.exact_rest",
     "collisionlab.engine.exact_sweeps",

@@ -37,7 +37,7 @@ def test_an_edited_kernel_file_drops_its_own_cached_code_too(monkeypatch: pytest
     ]
     exact = [
         "exact_flight",
-        "exact_time_of_impact",
+        "pair_time_of_impact",
         "exact_impulses",
         "exact_rest",
         "exact_sweeps",

@@ -30,10 +30,10 @@ from collisionlab.engine import (
     exact_settle,
     exact_step_end,
     exact_sweeps,
-    exact_time_of_impact,
     geometry_kernels,
     non_literal,
     pair_separation,
+    pair_time_of_impact,
     step_kernels,
     touching_memory,
 )
@@ -110,7 +110,7 @@ EULER_FILES = (
 #: The exact stepper's files: the loop and one file per concept it calls.
 EXACT_FILES = (
     exact_flight,
-    exact_time_of_impact,
+    pair_time_of_impact,
     exact_impulses,
     exact_rest,
     exact_settle,

@@ -1,6 +1,6 @@
 """The reference time of impact, kept for tests only: the exact interval solver that
 ``collisionlab.toi`` used before it called the engine's kernel (conservative advancement,
-:func:`collisionlab.engine.exact_time_of_impact._time_of_impact`). It is an independent oracle: every
+:func:`collisionlab.engine.pair_time_of_impact._time_of_impact`). It is an independent oracle: every
 touch is a root of a polynomial in ``t`` solved in closed form (degree <= 2) or by monotone
 pieces and bisection to adjacent doubles (degree 3-4), with no tolerance.
 

@@ -10,7 +10,7 @@ mirrored order is derived with :meth:`Impact.flipped` (the relative motion negat
 negated). :func:`time_of_impact` dispatches on the shapes' types, in either order.
 
 Written once: the search is the exact stepper's own time of impact
-(:func:`collisionlab.engine.exact_time_of_impact._time_of_impact`, conservative advancement along
+(:func:`collisionlab.engine.pair_time_of_impact._time_of_impact`, conservative advancement along
 the separating normal, with the closed form for two balls in straight flight), run on a two-body
 state: A at rest at the origin (a line or plane as a static obstacle), B moving with the
 relative motion (:mod:`collisionlab.toi_search`). What ``collisionlab run --mode exact`` computes

@@ -1,6 +1,6 @@
 """The search behind :mod:`collisionlab.toi`'s time of impact of two translating shapes: the
 exact stepper's own time of impact
-(:func:`collisionlab.engine.exact_time_of_impact._time_of_impact`, conservative advancement along
+(:func:`collisionlab.engine.pair_time_of_impact._time_of_impact`, conservative advancement along
 the separating normal, with the closed form for two balls in straight flight) run on a two-body
 state, A at rest at the origin (a line or plane as a static obstacle) and B moving with the
 relative motion, in a frame scaled by powers of two (exact) so that the pair's size and
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .contact import Separation
-from .engine import exact_time_of_impact as et
+from .engine import pair_time_of_impact as et
 from .engine.shape_rows import body_row, static_row
 from .errors import OutOfRangeError, UnsupportedPairError
 from .shapes import AABB, Circle, Line, Plane, Shape, Sphere
@@ -31,7 +31,7 @@ __all__ = ["Impact", "first_impact", "too_large"]
 _LARGEST_SCALED = 2.0**500
 _LARGEST_SCALED_ACCELERATION = 2.0**1000
 _SMALLEST_SCALED = 2.0**-250
-#: Rounds of the kernel's iteration (each at most ``exact_time_of_impact.TOI_ITERATIONS`` steps)
+#: Rounds of the kernel's iteration (each at most ``pair_time_of_impact.TOI_ITERATIONS`` steps)
 #: before a touch not yet within ``TOI_TOUCH`` is taken as reached: conservative advancement never
 #: passes the touch, so the time then is at most rounding early.
 _ROUNDS = 16
@@ -148,7 +148,7 @@ def _search(a: Shape, b: Shape, velocity: Vector3D, acceleration: Vector3D, max_
     t = 0.0
     for _ in range(_ROUNDS):
         with np.errstate(all="ignore"):  # a root beyond the range is inf (no touch), as compiled
-            reached = et._time_of_impact(*state, t, end, 0.0, -math.inf)
+            reached = et._time_of_impact(*state, t, end, 0.0, -math.inf, -math.inf)
             if reached == math.inf:
                 return None
             sep = et._separation_at(*state, reached, k2, p2, v2, e2)

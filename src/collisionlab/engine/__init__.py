@@ -21,7 +21,7 @@ Euler) or exactly.
 * :mod:`.exact_kernels` - the exact stepper over the same arrays (times of impact within each
   step, earliest first from an event calendar): its loop; one file per phase it calls,
   :mod:`.exact_sweeps` (the candidates' bounds), :mod:`.exact_rest` (resting contacts),
-  :mod:`.exact_time_of_impact`, :mod:`.exact_impacts` (impacts in time order),
+  :mod:`.pair_time_of_impact`, :mod:`.exact_impacts` (impacts in time order),
   :mod:`.exact_settle` (what an impact touches, settled), :mod:`.exact_step_end`,
   :mod:`.exact_impulses` and :mod:`.exact_flight`; :mod:`.exact_stepper` keeps its state
   between calls.

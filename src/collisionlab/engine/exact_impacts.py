@@ -1,5 +1,5 @@
 """The exact stepper's impacts, earliest first (phases 3 and 4 of :mod:`.exact_kernels`): every
-candidate pair's time of impact (:mod:`.exact_time_of_impact`) and every rest's expiry
+candidate pair's time of impact (:mod:`.pair_time_of_impact`) and every rest's expiry
 (:mod:`.exact_rest`) pushed onto a binary heap (:mod:`.event_heap`, lazy invalidation: each
 pair's prediction carries a version, a kicked body's pairs get new ones), then popped in time
 order. At each impact the two bodies are brought to its time (:mod:`.exact_flight`), the impulse
@@ -27,7 +27,7 @@ if "_EVENT_ROWS" in globals():  # the compiled copy: the kernels it calls are co
     ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
     ef: Any = globals()["_EXACT_FLIGHT"]
-    et: Any = globals()["_EXACT_TIME_OF_IMPACT"]
+    et: Any = globals()["_PAIR_TIME_OF_IMPACT"]
     ej: Any = globals()["_EXACT_IMPULSES"]
     er: Any = globals()["_EXACT_REST"]
     es: Any = globals()["_EXACT_SWEEPS"]
@@ -41,8 +41,8 @@ else:
     from . import exact_rest as er
     from . import exact_settle as st
     from . import exact_sweeps as es
-    from . import exact_time_of_impact as et
     from . import pair_separation as ps
+    from . import pair_time_of_impact as et
 
 #: The most impacts resolved within one step; past it the step ends without the rest (a guard
 #: against an endless run of impacts; the world warns, ``status[0]`` counts such steps).
@@ -99,7 +99,7 @@ def _predict_all(
         b = cb[c]
         if rest[c] == 1 or (ima[b] == 0.0 and (a < 0 or ima[a] == 0.0)):
             continue
-        when = et._time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap, -cd[c])
+        when = et._time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, t, dt, gap, -cd[c], -math.inf)
         if when < dt:
             size = eh.heap_push(ht, hk, hv, size, when, c, 0)
     for c in range(count):
@@ -244,7 +244,9 @@ def _impacts(
             st._remember(sep_ev, sep_val, c, ev, sep)
             ver[c] += 1
             if sep[0] > contact_margin:  # the iteration's cap stopped short: look again from here
-                again = et._time_of_impact(kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0])
+                again = et._time_of_impact(
+                    kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a, b, when, dt, gap, sep[0], -math.inf
+                )
                 if again < dt:
                     size = eh.heap_compact(ht, hk, hv, size, ver)
                     size = eh.heap_push(ht, hk, hv, size, again, c, ver[c])
@@ -360,7 +362,7 @@ def _impacts(
                 if sep_ev[c2] == ev:
                     floor = max(floor, sep_val[c2, 0])
                 again = et._time_of_impact(
-                    kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor
+                    kind, pos, vel, acc, tau, ext, s_kind, s_a, s_b, a2, b2, when, dt, gap, floor, -math.inf
                 )
                 if again < dt:
                     size = eh.heap_compact(ht, hk, hv, size, ver)

@@ -54,7 +54,7 @@ The phases live in files of their own, each owning one concept (this file is the
 
 * :mod:`.exact_sweeps` - phase 1's bounds: how far each body can move in the step's rest;
 * :mod:`.exact_rest` - phase 2, resting contacts and the accelerations they leave;
-* :mod:`.exact_time_of_impact` - phase 3's query, a pair's first time of impact;
+* :mod:`.pair_time_of_impact` - phase 3's query, a pair's first time of impact;
 * :mod:`.exact_impacts` - phases 3 and 4, the predictions and the impacts in time order;
 * :mod:`.exact_settle` - what an impact touches, settled at its time: contacts, rests;
 * :mod:`.exact_impulses` - the impulse of an impact, or of a rest's stop;

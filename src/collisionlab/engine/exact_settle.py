@@ -11,7 +11,7 @@ Owns ``RELAX_IMPULSES``, the settling (:func:`_settle`), the look again at rests
 (:func:`_rest_again`) and the separations measured at the time of the event being resolved
 (:func:`_remember`, :func:`_recalled`: the positions stay while it is resolved, an impulse
 changes velocities only). It imports the flight, the rounding speed of
-:mod:`.exact_time_of_impact`, the impulses, the rests, the event heap and the kernels they call;
+:mod:`.pair_time_of_impact`, the impulses, the rests, the event heap and the kernels they call;
 it must not import :mod:`.exact_impacts` or the loop, which call it.
 """
 
@@ -27,7 +27,7 @@ if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are comp
     ps: Any = globals()["_PAIR_SEPARATION"]
     eh: Any = globals()["_HEAP"]
     ef: Any = globals()["_EXACT_FLIGHT"]
-    et: Any = globals()["_EXACT_TIME_OF_IMPACT"]
+    et: Any = globals()["_PAIR_TIME_OF_IMPACT"]
     ej: Any = globals()["_EXACT_IMPULSES"]
     er: Any = globals()["_EXACT_REST"]
 else:
@@ -37,9 +37,9 @@ else:
     from . import exact_flight as ef
     from . import exact_impulses as ej
     from . import exact_rest as er
-    from . import exact_time_of_impact as et
     from . import geometry_kernels as gk
     from . import pair_separation as ps
+    from . import pair_time_of_impact as et
 
 #: The most impulses that settle the contacts one impact touches (a row of k balls needs k).
 RELAX_IMPULSES = 4096

@@ -1,14 +1,21 @@
-"""When a pair of the exact stepper's bodies first touches: phase 3 of :mod:`.exact_kernels`,
-conservative advancement along the separating axis (B. Mirtich, "Impulse-based dynamic simulation
-of rigid body systems", 1996; as Box2D's ``b2TimeOfImpact``), two balls in straight flight in
-closed form (Ericson, *Real-Time Collision Detection*, 4.4.3). The state is only read: each body is
-where its flight (:mod:`.exact_flight`) puts it at each time tried.
+"""When a pair of bodies in flight first touches: the engine's one time of impact, for every
+stepper that predicts impacts (phase 3 of :mod:`.exact_kernels`; phase 2 of
+:mod:`.contact_kernels`, through :mod:`.contact_time_of_impact`) and for the scalar query
+:func:`collisionlab.toi.time_of_impact`. Conservative advancement along the separating axis
+(B. Mirtich, "Impulse-based dynamic simulation of rigid body systems", 1996; as Box2D's
+``b2TimeOfImpact``), each step the first root of the gap along the current normal
+(:func:`~.geometry_kernels.first_root`, exact for a ball against a line, plane or box face), two
+balls in straight flight in closed form (Ericson, *Real-Time Collision Detection*, 4.4.3). A touch
+slower than the caller's rest speed is no impact (the restitution rule,
+:func:`~.contact_law.is_impact`). The state is only read: each body is where its flight
+(:mod:`.exact_flight`) puts it at each time tried.
 
 Owns ``TOI_ITERATIONS``, :func:`_time_of_impact`, :func:`_separation_at` (both called as Python by
 :func:`collisionlab.toi.time_of_impact` too), two balls' root (:func:`_ball_ball_root`) and the
 approach speed that is only rounding (:func:`_rounding_speed`, which the impacts use too). It
-imports the separations of :mod:`.geometry_kernels` and :mod:`.pair_separation` and the flight; it
-must not import the impulses, rests, sweeps, impacts or the loop (a query changes nothing).
+imports the contact law's test, the separations of :mod:`.geometry_kernels` and
+:mod:`.pair_separation` and the flight; it must not import the impulses, rests, sweeps, impacts
+or the loops (a query changes nothing).
 """
 
 from __future__ import annotations
@@ -19,10 +26,12 @@ from typing import Any
 from ..tolerances import APPROACH_ROUNDING
 
 if "_GEOMETRY" in globals():  # the compiled copy: the kernels it calls are compiled too
+    cl: Any = globals()["_CONTACT_LAW"]
     gk: Any = globals()["_GEOMETRY"]
     ps: Any = globals()["_PAIR_SEPARATION"]
     ef: Any = globals()["_EXACT_FLIGHT"]
 else:
+    from . import contact_law as cl
     from . import exact_flight as ef
     from . import geometry_kernels as gk
     from . import pair_separation as ps
@@ -122,9 +131,15 @@ def _time_of_impact(
     t_end: float,
     gap: float,
     floor: float,
+    rest_speed: float,
 ) -> float:
     """The time in ``[t0, t_end)`` when pair ``(a, b)`` first comes within ``gap`` while
-    approaching, or ``inf`` (conservative advancement, the module docstring's phase 3). A pair in
+    approaching, or ``inf`` (conservative advancement, the module docstring's phase 3): the
+    engine's one time of impact of two bodies in flight (the exact stepper's, the contact
+    stepper's and :func:`collisionlab.toi.time_of_impact`'s). A pair that comes within ``gap``
+    approaching slower than ``rest_speed`` is a resting contact, not an impact (the restitution
+    rule, :func:`~.contact_law.is_impact`): ``inf`` (the contact stepper's solve takes it);
+    ``-inf`` makes every approach an impact (the exact stepper, the scalar API). A pair in
     contact and separating is followed until its gap along the normal closes again (a slow hop
     under gravity), once; an overlapping one until that gap is back to 0 after it has left.
     Each body is where its flight puts it at each time tried (a static stays, as a body of
@@ -192,8 +207,8 @@ def _time_of_impact(
         s2 = 0.5 * (ax * nx + ay * ny + az * nz)
         if sep[0] <= gap:
             still = _rounding_speed(wax, way, waz, wbx, wby, wbz)
-            if s1 < -still or (s1 <= still and s2 < 0.0):
-                return t
+            if s1 < -still or (s1 <= still and s2 < 0.0):  # approaching: an impact, or resting
+                return t if cl.is_impact(s1, rest_speed) else math.inf
             if jumped or s2 >= 0.0:
                 return math.inf
             if sep[0] < -gap and s1 * s1 >= 4.0 * s2 * sep[0]:
