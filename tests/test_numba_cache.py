@@ -227,3 +227,30 @@ def test_a_temporary_cache_folder_open_to_others_is_not_used(tmp_path: Path, mon
     assert chosen != shared and chosen.parent == tmp_path and chosen.stat().st_mode & 0o077 == 0
     shared.chmod(0o700)
     assert numba_cache._temporary_cache() == shared
+
+
+def test_every_loader_compiles_with_the_one_set_of_options() -> None:
+    """The engine's kernel files, the event-driven loop and the writers' text kernel are all
+    compiled through numba_cache.kernel: cached on disk, the GIL released, numpy's error model
+    (a division by zero is inf, never an exception), and nothing else but the two ways a
+    function may be asked for (inlined into its callers, or without reference counts)."""
+    import types
+
+    from numba.core.registry import CPUDispatcher
+
+    from collisionlab import text_kernels
+    from collisionlab.edmd import collide, loop, predict, schedule
+    from collisionlab.engine import compiled
+
+    modules: list[types.ModuleType] = [compiled.kernels(), compiled.exact_kernels(), compiled.contact_kernels()]
+    modules += [sys.modules[name] for name in list(sys.modules) if ".engine._compiled_" in name]
+    modules += [loop, predict, schedule, collide]
+    dispatchers = [value for module in modules for value in vars(module).values() if isinstance(value, CPUDispatcher)]
+    dispatchers.append(text_kernels.compiled())
+    assert len(dispatchers) > 100  # every file's functions, not a few
+    for dispatcher in dispatchers:
+        options = dict(dispatcher.targetoptions)
+        assert options.pop("error_model") == "numpy" and options.pop("nogil") is True, dispatcher
+        assert dispatcher._cache.__class__.__name__ == "FunctionCache", dispatcher  # cache=True
+        assert set(options) <= {"nopython", "boundscheck", "inline", "_nrt"}, dispatcher
+        assert options.get("inline", "always") == "always" and options.get("_nrt", False) is False, dispatcher

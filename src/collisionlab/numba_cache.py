@@ -28,6 +28,7 @@ __all__ = [
     "forget_stale",
     "gc_paused",
     "holds",
+    "kernel",
     "numba_cache_dir",
     "use_user_cache",
 ]
@@ -237,6 +238,29 @@ def compile_lock(package: Path, stem: str) -> Iterator[None]:
     finally:
         if handle is not None:
             handle.close()  # releases the lock
+
+
+def kernel(function: Any, *, inline: bool = False, refcount: bool = True) -> Any:
+    """``function`` compiled by numba as every kernel of the package is, whichever loader asks
+    (the engine's kernel files, :mod:`collisionlab.engine.compiled`; the event-driven loop,
+    :mod:`collisionlab.edmd.compile`; the output writers', :mod:`collisionlab.text_kernels`): on
+    first call, cached on disk in :func:`numba_cache_dir` (``cache``), releasing the GIL while it
+    runs (``nogil``: the writers' thread formats meanwhile), with ``error_model="numpy"`` (a
+    division by zero gives inf, which the predictions use for "never", and no exception check
+    in every division). ``inline``: numba inlines it into its callers (it is then compiled as
+    each caller is); ``refcount=False``: compiled without reference counts (it allocates
+    nothing, so a call passes its arrays as they are). numba keys a cached function on its own
+    file only, so a loader drops its cached code when this file changes too
+    (:func:`forget_stale`)."""
+    use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
+    import numba
+
+    options: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True}
+    if inline:
+        options["inline"] = "always"
+    if not refcount:
+        options["_nrt"] = False  # (not in numba's stubs)
+    return numba.njit(**options)(function)
 
 
 def compiled_once(dispatcher: Any) -> Any:

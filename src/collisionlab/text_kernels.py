@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .numba_cache import holds, use_user_cache
+from .numba_cache import forget_stale, holds, kernel, use_user_cache
 
 __all__ = [
     "FIXED3",
@@ -188,21 +188,28 @@ def lay_out(
 _compiled: list[Callable[..., int]] = []
 
 
+def _start() -> None:
+    """numba's cache folder, and this file's cached code dropped when it, or the compile's
+    options (:func:`~collisionlab.numba_cache.kernel`), changed since it was written."""
+    use_user_cache()
+    here = Path(__file__)
+    forget_stale(here.parent, ["text_kernels"], [here, here.parent / "numba_cache.py"])
+
+
 def is_cached() -> bool:
     """Whether numba's on-disk cache seems to hold :func:`lay_out` already (a guess from its
     index file, as :func:`collisionlab.engine.compiled.is_cached`): else the first use compiles
     it, for a few seconds, and a program says so."""
-    use_user_cache()
+    _start()
     return holds(Path(__file__).parent, "text_kernels", "lay_out")
 
 
 def compiled() -> Callable[..., int]:
-    """:func:`lay_out` compiled by numba (on first use; cached on disk, in the user's cache
-    folder, as the engine's kernels)."""
+    """:func:`lay_out` compiled by numba as every kernel of the package is (on first use; cached
+    on disk, in the user's cache folder; the GIL released: the writers' thread, see
+    cli.background)."""
     if not _compiled:
-        use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
-        import numba
-
-        jitted: Any = numba.njit(cache=True, nogil=True)(lay_out)  # (the writers' thread: see cli.background)
+        _start()
+        jitted: Any = kernel(lay_out)
         _compiled.append(jitted)
     return _compiled[0]

@@ -1,4 +1,7 @@
-"""How the event-driven kernels are compiled: numba, once per machine (``cache=True``).
+"""How the event-driven kernels are compiled: numba, once per machine (``cache=True``), with the
+options every kernel of the package gets (:func:`collisionlab.numba_cache.kernel`, the one place
+they are set); the decorators here say which way each function is compiled (inlined, called
+without reference counts) and add the loop's own intrinsics.
 
 ``error_model="numpy"`` lets a division by zero give inf instead of raising (the predictions
 divide by speeds that may be zero, and an infinite time is the right answer: never).
@@ -8,7 +11,7 @@ on the instruction set of the machine that compiled them.
 numba recompiles a cached function when *its own* file changes, not when a function it inlines
 from another file does: so the package's cached code is dropped, before anything compiles,
 when any of its files, the engine's geometry kernels (the contact law and the time of impact of
-two balls, inlined here) or the tolerances is newer than it.
+two balls, inlined here), the tolerances or the compile's options is newer than it.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, cast
 
-from ..numba_cache import compiled_once, forget_stale, holds, use_user_cache
+from ..numba_cache import compiled_once, forget_stale, holds, kernel, use_user_cache
 
 use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
 _HERE = Path(__file__).resolve().parent
@@ -25,9 +28,10 @@ _HERE = Path(__file__).resolve().parent
 _COMPILED = ("calendar", "cells", "collide", "compile", "layout", "loop", "predict", "schedule")
 #: The engine's files the loop inlines (:mod:`.predict`: two balls' time of impact, the contact law).
 _INLINED = tuple(_HERE.parent / f for f in ("engine/geometry_kernels.py", "engine/contact_law.py", "tolerances.py"))
-forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED])
+#: The compile's options are numba_cache.py's (:func:`~collisionlab.numba_cache.kernel`).
+_OPTIONS = _HERE.parent / "numba_cache.py"
+forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED, _OPTIONS])
 
-import numba  # noqa: E402  (after the cache folder is set)
 from llvmlite import ir  # type: ignore[import-untyped]  # noqa: E402
 from numba.core import cgutils as _cgutils  # noqa: E402
 from numba.core import types  # noqa: E402
@@ -41,8 +45,9 @@ _A = TypeVar("_A")
 
 
 def jit(function: _F) -> _F:
-    """Compile ``function`` with numba (nopython, cached on disk)."""
-    return cast(_F, numba.njit(cache=True, error_model="numpy")(function))
+    """Compile ``function`` with numba as every kernel of the package is
+    (:func:`~collisionlab.numba_cache.kernel`: nopython, cached on disk)."""
+    return cast(_F, kernel(function))
 
 
 def jit_inline(function: _F) -> _F:
@@ -52,7 +57,7 @@ def jit_inline(function: _F) -> _F:
     work. numba types an inlined function again at every call site, so this is kept to the few
     that make the loop; the rest are :func:`jit_call` (bench/LOG.md, "Compiling the event-driven
     kernels", measures the compile's time and memory both ways, and the loop's speed)."""
-    return cast(_F, numba.njit(cache=True, error_model="numpy", inline="always")(function))
+    return cast(_F, kernel(function, inline=True))
 
 
 def jit_call(function: _F) -> _F:
@@ -62,8 +67,7 @@ def jit_call(function: _F) -> _F:
 
     It is compiled for one set of argument types whatever its callers pass
     (:func:`~collisionlab.numba_cache.compiled_once`)."""
-    options: dict[str, Any] = {"cache": True, "error_model": "numpy", "_nrt": False}  # (_nrt: not in numba's stubs)
-    return cast(_F, compiled_once(numba.njit(**options)(function)))
+    return cast(_F, compiled_once(kernel(function, refcount=False)))
 
 
 @jit_call

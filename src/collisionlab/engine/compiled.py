@@ -1,5 +1,6 @@
 """The engine's kernels compiled by numba: the same source files as the Python forms, loaded a
-second time under their own module names with every function put through ``numba.njit``.
+second time under their own module names with every function compiled as every kernel of the
+package is (:func:`collisionlab.numba_cache.kernel`, the one set of numba's options).
 
 Nothing is compiled until :func:`kernels` is first called; numba caches the machine code on disk
 (``cache=True``), so the compile happens once per machine and later loads take well under a
@@ -14,10 +15,10 @@ Every kernel releases the GIL while it runs (``nogil``): the output writers then
 last chunk of steps produced, in a thread of their own, while the next chunk runs.
 
 numba keys each cached function on its own source file only, but the stepper's machine code
-contains the geometry kernels it calls, and the options above (this file) change it too:
-:func:`_forget_stale` drops a kernel file's cache when the file, a file it calls, or this one,
-changed since it was written, so an edit there can never run stale code (and :func:`is_cached`
-never finds a kernel numba would compile again).
+contains the geometry kernels it calls, and the options (this file, and numba_cache.py's
+:func:`~collisionlab.numba_cache.kernel`) change it too: :func:`_forget_stale` drops a kernel
+file's cache when the file, a file it calls, or one of those, changed since it was written, so an
+edit there can never run stale code (and :func:`is_cached` never finds a kernel numba would compile again).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import types
 from pathlib import Path
 from typing import Any
 
-from ..numba_cache import forget_stale, holds, use_user_cache
+from ..numba_cache import forget_stale, holds, kernel, use_user_cache
 
 __all__ = ["contact_kernels", "exact_kernels", "is_cached", "kernels"]
 
@@ -42,9 +43,6 @@ _started: list[bool] = []  # whether _start has run in this process
 def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     """Load ``name``.py again as ``collisionlab.engine._compiled_<name>`` and jit its functions.
     The module goes into ``sys.modules`` so that numba's cache can find it again."""
-    use_user_cache()  # before numba is first imported: it reads NUMBA_CACHE_DIR then
-    import numba
-
     qualified = f"{__package__}._compiled_{name}"
     spec = importlib.util.spec_from_file_location(qualified, _HERE / f"{name}.py")
     assert spec is not None and spec.loader is not None
@@ -56,13 +54,7 @@ def _compile_module(name: str, inject: dict[str, Any]) -> types.ModuleType:
     no_refcount = set(getattr(module, "NO_REFCOUNT", ()))
     for attribute, value in list(vars(module).items()):
         if isinstance(value, types.FunctionType) and value.__module__ == qualified:
-            # error_model="numpy": no Python exception check in every division (none can raise).
-            options: dict[str, Any] = {"cache": True, "error_model": "numpy", "nogil": True}
-            if attribute in inline:
-                options["inline"] = "always"
-            if attribute in no_refcount:
-                options["_nrt"] = False  # allocates nothing: no reference counts either
-            setattr(module, attribute, numba.njit(**options)(value))
+            setattr(module, attribute, kernel(value, inline=attribute in inline, refcount=attribute not in no_refcount))
     return module
 
 
@@ -129,7 +121,7 @@ def _forget_stale() -> None:
     :func:`is_cached` true to what a call will do.)"""
     for stem in _kernel_files():
         sources = [_HERE / f"{name}.py" for name in (stem, *_calls(stem))]
-        sources += [_HERE.parent / "tolerances.py", Path(__file__)]
+        sources += [_HERE.parent / "tolerances.py", _HERE.parent / "numba_cache.py", Path(__file__)]
         forget_stale(_HERE, [stem], sources)
 
 
