@@ -16,6 +16,7 @@ two balls, inlined here), the tolerances or the compile's options is newer than 
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar, cast
@@ -24,13 +25,35 @@ from ..numba_cache import compiled_once, forget_stale, holds, kernel, use_user_c
 
 use_user_cache()  # before numba is first imported: its cache goes to the user's cache folder
 _HERE = Path(__file__).resolve().parent
-#: The package's compiled modules (the rest is plain Python around them).
-_COMPILED = ("calendar", "cells", "collide", "compile", "layout", "loop", "predict", "schedule")
-#: The engine's files the loop inlines (:mod:`.predict`: two balls' time of impact, the contact law).
-_INLINED = tuple(_HERE.parent / f for f in ("engine/geometry_kernels.py", "engine/contact_law.py", "tolerances.py"))
-#: The compile's options are numba_cache.py's (:func:`~collisionlab.numba_cache.kernel`).
-_OPTIONS = _HERE.parent / "numba_cache.py"
-forget_stale(_HERE, _COMPILED, [*(_HERE / f"{stem}.py" for stem in _COMPILED), *_INLINED, _OPTIONS])
+#: A file that compiles functions with this file's decorators, and the imports of a file of the
+#: package or of an engine's kernel file (numba compiles what it calls, or its constants, into it).
+_DECORATED = re.compile(r"^from \.compile import ", re.MULTILINE)
+_IMPORTS = re.compile(r"^from \.(\w+) import |^from \.\.engine import (\w+) as ", re.MULTILINE)
+
+
+def _compiled_files() -> tuple[list[str], list[Path]]:
+    """The package's files whose functions numba compiles (those that import this file's
+    decorators, and this one: :func:`flag`), and every file their machine code may hold: they,
+    the files of the package and the engine's kernel files they import, the tolerances and the
+    compile's options (numba_cache.py's :func:`~collisionlab.numba_cache.kernel`). Read from the
+    files themselves, so that no list is kept by hand.
+
+    >>> stems, sources = _compiled_files()
+    >>> {"compile", "loop", "predict", "spread", "structure"} <= set(stems), "observables" in stems
+    (True, False)
+    >>> sorted(p.name for p in sources if p.parent.name != "edmd")
+    ['contact_law.py', 'geometry_kernels.py', 'numba_cache.py', 'tolerances.py']
+    """
+    stems = ["compile"] + [p.stem for p in sorted(_HERE.glob("*.py")) if _DECORATED.search(p.read_text("utf-8"))]
+    sources = {_HERE.parent / "tolerances.py", _HERE.parent / "numba_cache.py"}
+    for stem in stems:
+        sources.add(_HERE / f"{stem}.py")
+        for own, engine in _IMPORTS.findall((_HERE / f"{stem}.py").read_text("utf-8")):
+            sources.add(_HERE / f"{own}.py" if own else _HERE.parent / "engine" / f"{engine}.py")
+    return stems, sorted(sources)
+
+
+forget_stale(_HERE, *_compiled_files())
 
 from llvmlite import ir  # type: ignore[import-untyped]  # noqa: E402
 from numba.core import cgutils as _cgutils  # noqa: E402
