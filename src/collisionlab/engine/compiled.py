@@ -1,6 +1,11 @@
 """The engine's kernels compiled by numba: the same source files as the Python forms, loaded a
 second time under their own module names with every function compiled as every kernel of the
-package is (:func:`collisionlab.numba_cache.kernel`, the one set of numba's options).
+package is (:func:`collisionlab.numba_cache.kernel`, the one set of numba's options). The second
+load is how a compiled kernel calls the compiled copies of its helpers while the Python form
+keeps calling plain functions; numba's other way, an overload of each Python function
+(``register_jitable``), compiled exact mode's kind 2.3 times as long and cached nothing apart
+(bench/LOG.md, "one loader without loading a file twice"). Which files a kernel file calls is
+read from its own import block, not kept in a list.
 
 Nothing is compiled until :func:`kernels` is first called; numba caches the machine code on disk
 (``cache=True``), so the compile happens once per machine and later loads take well under a
