@@ -40,15 +40,16 @@ else:
 #: used (it is never after the impact, so nothing is missed: the pair is looked at again there).
 TOI_ITERATIONS = 64
 
-#: Helpers the compiled form inlines into their callers (:mod:`.compiled`): the small ones, and
-#: those the loop calls for every pair it looks at, which take arrays (a call costs a reference
-#: count taken and given back for each array it passes; inlined into a ``NO_REFCOUNT`` phase,
-#: none at all).
+#: Helpers the compiled form inlines into their callers (:mod:`.compiled`): the small ones.
 INLINE = (
     "_rounding_speed",
     "_ball_ball_root",
-    "_time_of_impact",
 )
+#: Called, not inlined, and compiled without reference counts (it allocates nothing, so a call
+#: passes its arrays as they are): inlined at its three places in the exact stepper's impacts it
+#: took 29 % of that kind's compile (109.9 s against 77.9 s); called, the exact stepper's
+#: landing of a pile runs 5-7 % slower (bench/LOG.md, 2026-12-06, fourth session).
+NO_REFCOUNT = ("_time_of_impact",)
 
 
 def _rounding_speed(ux: float, uy: float, uz: float, wx: float, wy: float, wz: float) -> float:
