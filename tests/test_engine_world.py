@@ -388,7 +388,7 @@ def test_a_world_compiling_its_kernels_holds_the_compile_lock(monkeypatch: pytes
     else:  # the exact world's notice also asks about the exact kernel, to say how long
         assert asked == [called[0], *called[1:] * 2]
         assert locked == [stem for stem, _ in called]
-        assert [line.split("; ")[1] for line in said] == ["up to a minute)...", "two to three minutes)..."]
+        assert [line.split("; ")[1] for line in said] == ["up to a minute)...", "one to three minutes)..."]
 
 
 # --- issue 28: the compiled kernels loaded ahead of the first step ---------------------------------

@@ -36,13 +36,14 @@ __all__ = [
 
 #: What a first compile takes on a 2-core machine, for each kind of kernels, as the notice says it
 #: (bench/README.md's ``collisionlab compile`` row and bench/LOG.md: Forward Euler 12-17 s, the
-#: solved contacts 44-75 s, exact mode's kernels 108-157 s, the event-driven loop 24-29 s since
+#: solved contacts 44-77 s, exact mode's kernels 78 s alone to 144 s beside the others since their
+#: time of impact is called, not inlined, the event-driven loop 24-31 s since
 #: its prediction is inlined once, the writers' text kernel 1-2 s, from machine to machine of
 #: this kind).
 COMPILE_TAKES: dict[str, str] = {
     "euler": "up to a minute",
-    "solve": "up to a minute",
-    "exact": "two to three minutes",
+    "solve": "one to two minutes",
+    "exact": "one to three minutes",
     "event-driven": "up to a minute",
     "text": "a few seconds",
 }
