@@ -186,14 +186,18 @@ def lay_out(
 
 
 _compiled: list[Callable[..., int]] = []
+_started: list[bool] = []  # whether _start has run in this process
 
 
 def _start() -> None:
-    """numba's cache folder, and this file's cached code dropped when it, or the compile's
-    options (:func:`~collisionlab.numba_cache.kernel`), changed since it was written."""
-    use_user_cache()
-    here = Path(__file__)
-    forget_stale(here.parent, ["text_kernels"], [here, here.parent / "numba_cache.py"])
+    """Once per process, before the cache is first asked: numba's cache folder, and this file's
+    cached code dropped when it, or the compile's options
+    (:func:`~collisionlab.numba_cache.kernel`), changed since it was written."""
+    if not _started:
+        use_user_cache()
+        here = Path(__file__)
+        forget_stale(here.parent, ["text_kernels"], [here, here.parent / "numba_cache.py"])
+        _started.append(True)
 
 
 def is_cached() -> bool:

@@ -23,7 +23,8 @@ numba keys each cached function on its own source file only, but the stepper's m
 contains the geometry kernels it calls, and the options (this file, and numba_cache.py's
 :func:`~collisionlab.numba_cache.kernel`) change it too: :func:`_forget_stale` drops a kernel
 file's cache when the file, a file it calls, or one of those, changed since it was written, so an
-edit there can never run stale code (and :func:`is_cached` never finds a kernel numba would compile again).
+edit there can never run stale code (and :func:`is_cached` never finds a kernel numba would
+compile again).
 """
 
 from __future__ import annotations
