@@ -10,6 +10,7 @@
     python3 tasks.py bench-edmd     # the event-driven engine against the reference C code
     python3 tasks.py edmd-long      # 10^7 elastic collisions; 1,000 balls coming to rest
     python3 tasks.py bench-sweep    # sweeps on Dask: 2 workers against 1, overhead per point
+    python3 tasks.py bench-compile  # each kind of kernels compiled alone from an empty cache, and where it goes
     python3 tasks.py fuzz           # every input surface at 100,000 inputs, counts by outcome
 
 Each step is printed before it runs; the first failure stops with its exit status.
@@ -131,6 +132,11 @@ def bench_sweep() -> None:
     sh(PYTHON, "bench/bench_sweep.py", *sys.argv[2:])
 
 
+def bench_compile() -> None:
+    setup("dev")
+    sh(PYTHON, "bench/bench_compile.py", *sys.argv[2:])
+
+
 def fuzz() -> None:
     """The fuzz suite's harness (tests/fuzz_harness.py) at 100,000 inputs or more."""
     setup("dev")
@@ -147,6 +153,7 @@ TASKS = {
     "bench-edmd": bench_edmd,
     "edmd-long": edmd_long,
     "bench-sweep": bench_sweep,
+    "bench-compile": bench_compile,
     "fuzz": fuzz,
 }
 
