@@ -35,11 +35,10 @@ __all__ = [
 
 
 #: What a first compile takes on a 2-core machine, for each kind of kernels, as the notice says it
-#: (bench/README.md's ``collisionlab compile`` row and bench/LOG.md: Forward Euler 12-17 s, the
-#: solved contacts 44-77 s, exact mode's kernels 78 s alone to 144 s beside the others since their
-#: time of impact is called, not inlined, the event-driven loop 24-31 s since
-#: its prediction is inlined once, the writers' text kernel 1-2 s, from machine to machine of
-#: this kind).
+#: (bench/README.md's ``collisionlab compile`` row and bench/LOG.md: Forward Euler 34-36 s alone,
+#: as a first ``gas`` compiles it, 20-26 s after the others; the solved contacts 44-77 s; exact
+#: mode's kernels 78 s alone to 144 s beside the others; the event-driven loop 24-31 s; the
+#: writers' text kernel 1-2 s; from machine to machine of this kind).
 COMPILE_TAKES: dict[str, str] = {
     "euler": "up to a minute",
     "solve": "one to two minutes",

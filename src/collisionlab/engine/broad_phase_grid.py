@@ -158,8 +158,9 @@ def _grid_width(ext: Any, dims: int) -> float:
     widths = np.zeros(n)
     for i in range(n):
         widths[i] = _body_width(ext, i, dims)
-    widths = np.sort(widths)
-    return float(widths[n - 1 - min(n // LARGE_SHARE, n - 1)])
+    # The kernels' one sort: numba compiles each of np.sort and np.argsort, for each dtype, apart.
+    rank = np.argsort(widths)
+    return float(widths[rank[n - 1 - min(n // LARGE_SHARE, n - 1)]])
 
 
 def _grid_plan(

@@ -90,7 +90,7 @@ def _list_pairs(
 
 def _grown_int(a: Any) -> Any:
     grown = np.zeros((2 * a.shape[0] + 16, a.shape[1]), np.int64)
-    grown[: a.shape[0]] = a
+    _copy_rows(a, grown)
     return grown
 
 
@@ -98,8 +98,16 @@ def _grown_float(a: Any, rows: int) -> Any:
     if a.shape[0] >= rows:
         return a
     grown = np.zeros((max(rows, 2 * a.shape[0] + 16), a.shape[1]))
-    grown[: a.shape[0]] = a
+    _copy_rows(a, grown)
     return grown
+
+
+def _copy_rows(a: Any, grown: Any) -> None:
+    """``grown[:len(a)] = a``, element by element: numba compiles a slice copied from an array
+    with its shape error's message, and that pulls its string formatting into the compile."""
+    for r in range(a.shape[0]):
+        for col in range(a.shape[1]):
+            grown[r, col] = a[r, col]
 
 
 def _adjacency(pairs: Any, count: int, n: int, start: Any, adj: Any) -> Any:

@@ -324,13 +324,22 @@ def _events_in_order(
     if m < 2:
         return
     of = np.empty(m, np.int64)
+    of_key = np.empty(m)  # the same numbers as floats (exact below 2^53): the kernels' one argsort
     for k in range(m):
         of[k] = order[event_of[k]]
+        of_key[k] = of[k]
     wanted = _order_subset(pos, ca, cb, cd, of, m)
-    by_contact = np.argsort(of)
+    by_contact = np.argsort(of_key)
     rows = events[first:end].copy()
     sorted_of = of[by_contact]
     for q in range(m):
-        k = by_contact[np.searchsorted(sorted_of, wanted[q])]
+        lo, hi = 0, m  # the first place holding wanted[q] (np.searchsorted, which costs numba's
+        while lo < hi:  # compile seconds of comparators)
+            mid = (lo + hi) // 2
+            if sorted_of[mid] < wanted[q]:
+                lo = mid + 1
+            else:
+                hi = mid
+        k = by_contact[lo]
         for col in range(events.shape[1]):
             events[first + q, col] = rows[k, col]

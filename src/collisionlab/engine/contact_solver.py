@@ -82,7 +82,8 @@ def _solve(
             continue
         if c == contacts.shape[0]:
             grown = np.zeros(2 * c + 16, np.int64)
-            grown[:c] = contacts
+            for q in range(c):  # not a slice copy: see _lowest_first
+                grown[q] = contacts[q]
             contacts = grown
         contacts[c] = p
         c += 1
@@ -105,8 +106,7 @@ def _solve(
     heights = np.empty(c)
     for q in range(c):
         heights[q] = pf[contacts[q], 0]
-    contacts[:c] = contacts[:c][np.argsort(heights, kind="mergesort")]  # lowest first: a weight
-    # passes down a heap to its floor in one sweep (a stable sort: the same order both forms)
+    _lowest_first(contacts, heights, c)  # a weight passes down a heap to its floor in one sweep
     kinetic = _contact_kinetic(pairs, contacts, c, vel, ima, n)
     approach = np.empty(c)  # each contact's normal velocity before the solve
     for q in range(c):
@@ -163,9 +163,39 @@ def _solve(
         if a < 0:
             for k in range(3):
                 static_impulse[-1 - a, k] += pf[p, 5] * pf[p, 1 + k]
-    order = np.argsort(memory)  # the keys are distinct: any sort gives this order
+    keys = np.empty(kept)  # the keys are distinct (and exact as floats): any sort gives this order
+    for q in range(kept):
+        keys[q] = memory[q]
+    order = np.argsort(keys)
     memory_count[0] = kept
     return contacts, c, memory[order], lam[order], -1
+
+
+def _lowest_first(contacts: Any, heights: Any, c: int) -> None:
+    """Order ``contacts[:c]`` by ``heights``, lowest first, equal heights in their order (a stable
+    sort: the same order in both forms). numba's quicksort ``argsort`` of floats with each run of
+    equal heights then put back in order: the kernels' one sort (numba compiles each sort, kind
+    and dtype apart, seconds each), and elements copied one by one (numba compiles a slice copied
+    from an array with its shape error's message and string formatting)."""
+    rank = np.argsort(heights)
+    v = 0
+    while v < c:
+        w = v + 1
+        while w < c and heights[rank[w]] == heights[rank[v]]:
+            w += 1
+        if w - v > 1:  # rank[v:w] in ascending order: their positions as the float keys of a sort
+            at = np.empty(w - v)
+            for u in range(v, w):
+                at[u - v] = rank[u]
+            back = np.argsort(at)
+            for u in range(v, w):
+                rank[u] = int(at[back[u - v]])
+        v = w
+    ordered = np.empty(c, np.int64)
+    for q in range(c):
+        ordered[q] = contacts[rank[q]]
+    for q in range(c):
+        contacts[q] = ordered[q]
 
 
 def _apply(pairs: Any, pf: Any, p: int, vel: Any, ima: Any, impulse: float) -> None:

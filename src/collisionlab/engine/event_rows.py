@@ -40,7 +40,11 @@ def _events_with_room(events: Any, used: int, room: int) -> Any:
     if events.shape[0] - used >= room:
         return events
     grown = np.zeros((max(2 * events.shape[0] + 16, used + room), events.shape[1]))
-    grown[: events.shape[0]] = events
+    # Element by element: numba compiles a slice copied from an array with its shape error's
+    # message, and that pulls its string formatting into the compile (seconds, bench/LOG.md).
+    for r in range(events.shape[0]):
+        for col in range(events.shape[1]):
+            grown[r, col] = events[r, col]
     return grown
 
 
