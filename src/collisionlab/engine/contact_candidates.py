@@ -29,6 +29,10 @@ else:
 #: compacted (:func:`~collisionlab.engine.event_heap.heap_compact`) to at most the current ones.
 HEAP_ROOM = 2
 
+#: Inlined into its callers (:mod:`.compiled`): it copies arrays of either dtype, and a called
+#: kernel is compiled once (one set of argument types, tests/test_numba_cache.py).
+INLINE = ("_copy_rows",)
+
 
 def _list_pairs(
     kind: Any, pos: Any, ext: Any, asleep: Any, s_kind: Any, s_a: Any, s_b: Any,
